@@ -1,0 +1,19 @@
+#pragma once
+#include <cstdint>
+
+namespace dynweigh::firmware {
+
+// Why the indicator stopped. Latched until `clearfault`; the valve stays closed meanwhile.
+enum class Fault : std::uint8_t {
+  none = 0,
+  overload,       // load cell reports overload, or the weight is above the scale's maximum
+  underload,      // load cell reports underload
+  adc_error,      // load cell reports a converter error
+  stale_sample,   // no load-cell sample for 100 ms
+  dose_timeout,   // a dose did not reach its target within dose_timeout_s
+  never_stable,   // after the close the weight never settled
+};
+
+const char* fault_name(Fault fault);
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,111 @@
+#pragma once
+// The weigh indicator as a pure step function (shared/DESIGN.md): one call per jiffy with that
+// jiffy's Inputs, returning its Outputs. No hardware, no clock, no heap, no blocking; the console's
+// answers accumulate in a transmit ring that the board drains at its own pace.
+#include <cstddef>
+#include <cstdint>
+
+#include "dynweigh/firmware/console_line_reader.hpp"
+#include "dynweigh/firmware/display_filter.hpp"
+#include "dynweigh/firmware/dosing_cycle.hpp"
+#include "dynweigh/firmware/fault.hpp"
+#include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/firmware/test_data_recorder.hpp"
+#include "dynweigh/firmware/text_writer.hpp"
+
+namespace dynweigh::firmware {
+
+inline constexpr const char* kFirmwareVersion = "0.1.0";
+
+class Indicator {
+ public:
+  explicit Indicator(const PersistentSettings& settings);
+
+  Outputs step(const Inputs& inputs);
+  std::size_t drain_console(char* destination, std::size_t capacity) {
+    return console_.drain(destination, capacity);
+  }
+
+  const PersistentSettings& settings() const { return settings_; }
+  float filtered_weight_g() const;
+  float last_prediction_g() const { return dosing_.last_prediction_g(); }
+  Fault fault() const { return fault_; }
+  // A command is still running or queued: a scripted console waits before sending the next line.
+  bool busy() const;
+
+  // The console's commands; public so the command table can name them.
+  struct Arguments {
+    static constexpr std::size_t kMax = 4;
+    const char* word[kMax];
+    std::size_t count;
+  };
+  void command_starttestdata(const Arguments& args);
+  void command_readtestdata(const Arguments& args);
+  void command_dose(const Arguments& args);
+  void command_tare(const Arguments& args);
+  void command_zero(const Arguments& args);
+  void command_cal(const Arguments& args);
+  void command_status(const Arguments& args);
+  void command_param(const Arguments& args);
+  void command_valve(const Arguments& args);
+  void command_clearfault(const Arguments& args);
+  void command_help(const Arguments& args);
+  void command_version(const Arguments& args);
+
+ private:
+  struct QueuedLine {
+    char text[ConsoleLineReader::kMaxLine + 1];
+    bool too_long;
+  };
+  struct TestCycle {
+    bool active = false;
+    bool scheduled = false;
+    std::uint32_t jiffy = 0;
+    std::uint32_t open_jiffy = 0;
+    std::uint32_t close_jiffy = 0;
+  };
+
+  void receive_console(const Inputs& inputs);
+  void execute_queued_commands();
+  void execute(char* line);
+  void process_sample(const LoadCellInput& sample);
+  void raise(Fault fault);
+  void advance_dose();
+  ValveCommand advance_test_cycle();
+  void continue_print();
+  void apply_parameters();
+
+  bool cycle_running() const;
+  bool reject_if_busy();
+  void ok() { console_.line("OK"); }
+  void error(int code, const char* text);
+
+  PersistentSettings settings_;
+  bool settings_changed_ = false;
+  ConsoleLineReader reader_;
+  static constexpr std::size_t kQueue = 4;
+  QueuedLine queue_[kQueue];
+  std::size_t queue_head_ = 0, queue_count_ = 0;
+  TextWriter console_;
+
+  DisplayFilter filter_;
+  float filtered_counts_ = 0.0f;
+  float raw_counts_ = 0.0f;
+  bool has_sample_ = false;
+  float tare_g_ = 0.0f;
+  std::uint32_t stale_jiffies_ = 0;
+  std::uint16_t last_counter_ = 0;
+  Fault fault_ = Fault::none;
+
+  DosingCycle dosing_;
+  bool dose_command_pending_ = false;  // `dose` answers when it ends
+  TestCycle test_;
+  TestDataRecorder recorder_;
+  bool printing_ = false;
+  std::size_t print_index_ = 0;
+  ValveCommand manual_valve_ = ValveCommand::closed;
+  ValveCommand valve_ = ValveCommand::closed;
+};
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,45 @@
+#pragma once
+// What the indicator sees and does in one jiffy. Everything a board feeds it and takes from it
+// passes through these two structs, so a recording of Inputs replays the firmware exactly.
+#include <cstddef>
+#include <cstdint>
+
+namespace dynweigh::firmware {
+
+enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
+
+// SPEC §4, 0x1A0: 0 closed, 1 moving, 2 half, 3 open.
+enum class ValvePosition : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
+
+struct LoadCellInput {
+  std::int32_t raw_counts = 0;
+  std::uint16_t counter = 0;
+  std::uint8_t status = 0;  // SPEC §4: bit0 overload, bit1 underload, bit2 ADC error
+  bool fresh = true;        // false: no sample arrived this jiffy
+};
+
+inline constexpr std::uint8_t kLoadCellOverload = 0x01;
+inline constexpr std::uint8_t kLoadCellUnderload = 0x02;
+inline constexpr std::uint8_t kLoadCellAdcError = 0x04;
+
+struct Inputs {
+  std::uint32_t jiffy = 0;
+  LoadCellInput load_cell;
+  ValvePosition valve_position = ValvePosition::closed;
+  const char* console_rx = nullptr;  // bytes that arrived since the last jiffy
+  std::size_t console_rx_length = 0;
+};
+
+enum class IndicatorState : std::uint8_t { idle = 0, dosing = 1, settling = 2, fault = 3 };
+
+struct Outputs {
+  ValveCommand valve = ValveCommand::closed;
+  std::uint8_t valve_delay_100us = 0;  // SPEC §4 0x220: apply the command this much into the jiffy
+  std::uint16_t answered_counter = 0;  // the sample this jiffy answers
+  IndicatorState state = IndicatorState::idle;
+  std::int32_t weight_100mg = 0;       // SPEC §4 0x181
+  bool settings_changed = false;       // the board should persist settings() now
+  bool busy = false;                   // a command is still running (dose, test cycle, print)
+};
+
+}  // namespace dynweigh::firmware

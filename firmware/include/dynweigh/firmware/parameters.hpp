@@ -1,0 +1,64 @@
+#pragma once
+// The tunables of SPEC §3 and the firmware's own, each declared once with its range, default
+// and description: the `param` command, persistence and the defaults all read this one table.
+#include <cstddef>
+#include <cstdint>
+
+namespace dynweigh::firmware {
+
+enum class ParameterId : std::uint8_t {
+  bore_mm,
+  fall_mm,
+  container_mm,
+  density,
+  capacity_g,
+  jiffy_ms,
+  filter,
+  filter_hz,
+  preact_g,
+  valve_dead_ms,
+  valve_stroke_ms,
+  repose_deg,
+  stable_band_g,
+  stable_ms,
+  dose_timeout_s,
+  model_window_ms,
+  impact_settle_ms,
+  count
+};
+
+inline constexpr std::size_t kParameterCount = static_cast<std::size_t>(ParameterId::count);
+
+struct ParameterSpec {
+  const char* name;
+  const char* description;
+  float minimum;
+  float maximum;
+  float default_value;
+  const char* const* choices;  // a named setting (the value is the index), or nullptr
+  std::uint8_t choice_count;
+};
+
+const ParameterSpec& parameter_spec(ParameterId id);
+// The parameter named `name`, or ParameterId::count.
+ParameterId find_parameter(const char* name);
+
+// Display filters selectable by `param filter <name>`.
+enum class FilterKind : std::uint8_t { none = 0, average = 1, iir = 2 };
+
+class Parameters {
+ public:
+  Parameters();  // every value at its default
+  float get(ParameterId id) const { return values_[static_cast<std::size_t>(id)]; }
+  // False when out of range (the value is then unchanged).
+  bool set(ParameterId id, float value);
+
+  FilterKind filter() const { return static_cast<FilterKind>(static_cast<int>(get(ParameterId::filter))); }
+  const float* raw() const { return values_; }
+  float* raw() { return values_; }
+
+ private:
+  float values_[kParameterCount];
+};
+
+}  // namespace dynweigh::firmware

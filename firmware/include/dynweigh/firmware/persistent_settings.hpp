@@ -1,0 +1,33 @@
+#pragma once
+// What survives a restart: calibration and parameters, as one fixed-size record with a magic,
+// a version and a CRC so a blank or damaged store is recognised and never half-trusted.
+#include <cstddef>
+#include <cstdint>
+
+#include "dynweigh/firmware/parameters.hpp"
+
+namespace dynweigh::firmware {
+
+struct Calibration {
+  float zero_counts = 0.0f;      // counts of the empty scale
+  float counts_per_gram = 0.0f;  // span
+  bool zero_set = false;
+  bool span_set = false;
+  bool valid() const { return zero_set && span_set && counts_per_gram > 0.0f; }
+};
+
+struct PersistentSettings {
+  Calibration calibration;
+  Parameters parameters;
+};
+
+inline constexpr std::size_t kSettingsRecordSize = 16 + 8 + 4 * kParameterCount;
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
+
+// Writes the record; returns its size (kSettingsRecordSize) or 0 if `capacity` is too small.
+std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity);
+// False (and `settings` untouched) unless the record is complete, current and intact.
+bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings);
+
+}  // namespace dynweigh::firmware

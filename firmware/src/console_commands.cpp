@@ -1,0 +1,287 @@
+// The console's command table (SPEC §3) and handlers: each command is declared beside its usage,
+// so `help` and the dispatcher read the same table.
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#include "dynweigh/firmware/indicator.hpp"
+
+namespace dynweigh::firmware {
+namespace {
+
+struct CommandSpec {
+  const char* name;
+  const char* usage;
+  void (Indicator::*handler)(const Indicator::Arguments&);
+};
+
+constexpr CommandSpec kCommands[] = {
+    {"starttestdata", "starttestdata [<open> <close>]  1000-jiffy test cycle, valve schedule in jiffies",
+     &Indicator::command_starttestdata},
+    {"readtestdata", "readtestdata  print the last cycle: <jiffy> <raw> <filtered> <marker>",
+     &Indicator::command_readtestdata},
+    {"dose", "dose <grams> [model|preact|twostage|learn]  one dosing cycle to the target",
+     &Indicator::command_dose},
+    {"tare", "tare  take the present weight as tare", &Indicator::command_tare},
+    {"zero", "zero  take the present load as zero (persists)", &Indicator::command_zero},
+    {"cal", "cal <grams>  span calibration with a known load on the zeroed scale (persists)",
+     &Indicator::command_cal},
+    {"status", "status  state, weight, valve and fault", &Indicator::command_status},
+    {"param", "param [<name> [<value>]]  list, read or set a parameter (persists)",
+     &Indicator::command_param},
+    {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
+    {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
+    {"help", "help  this list", &Indicator::command_help},
+    {"version", "version  firmware version", &Indicator::command_version},
+};
+
+// Strict integer: optional sign, digits only, within [minimum, maximum].
+bool parse_int(const char* text, long minimum, long maximum, long& value) {
+  if (!text || !*text) return false;
+  char* end = nullptr;
+  const long parsed = std::strtol(text, &end, 10);
+  if (*end != '\0' || parsed < minimum || parsed > maximum) return false;
+  if (std::strlen(text) > 12) return false;  // strtol saturates silently on huge inputs
+  value = parsed;
+  return true;
+}
+
+// Strict decimal: [-]digits[.digits], no exponent, no junk.
+bool parse_decimal(const char* text, float& value) {
+  if (!text || !*text) return false;
+  const char* p = text;
+  bool negative = false;
+  if (*p == '-' || *p == '+') negative = *p++ == '-';
+  double whole = 0.0, scale = 1.0;
+  bool digits = false, point = false;
+  for (; *p; ++p) {
+    if (*p == '.' && !point) {
+      point = true;
+    } else if (*p >= '0' && *p <= '9') {
+      digits = true;
+      if (point) {
+        scale /= 10.0;
+        whole += (*p - '0') * scale;
+      } else {
+        whole = whole * 10.0 + (*p - '0');
+        if (whole > 1e12) return false;
+      }
+    } else {
+      return false;
+    }
+  }
+  if (!digits) return false;
+  value = float(negative ? -whole : whole);
+  return true;
+}
+
+Indicator::Arguments split(char* line) {
+  Indicator::Arguments args{{}, 0};
+  char* p = line;
+  while (*p) {
+    while (*p == ' ' || *p == '\t') *p++ = '\0';
+    if (!*p) break;
+    if (args.count == Indicator::Arguments::kMax) {
+      args.count = Indicator::Arguments::kMax + 1;  // too many: the handler's count check fails
+      break;
+    }
+    args.word[args.count++] = p;
+    while (*p && *p != ' ' && *p != '\t') ++p;
+  }
+  return args;
+}
+
+}  // namespace
+
+void Indicator::execute(char* line) {
+  const Arguments args = split(line);
+  if (args.count == 0) return;
+  for (const CommandSpec& command : kCommands) {
+    if (std::strcmp(command.name, args.word[0]) == 0) {
+      (this->*command.handler)(args);
+      return;
+    }
+  }
+  error(1, "unknown command");
+}
+
+void Indicator::command_starttestdata(const Arguments& args) {
+  if (args.count != 1 && args.count != 3) return error(2, "usage: starttestdata [<open> <close>]");
+  long open = 0, close = 0;
+  if (args.count == 3 && (!parse_int(args.word[1], 0, 1000, open) || !parse_int(args.word[2], 0, 1000, close) ||
+                          open > close)) {
+    return error(2, "need 0 <= open <= close <= 1000");
+  }
+  if (reject_if_busy()) return;
+  if (fault_ != Fault::none && args.count == 3) return error(4, "fault active");
+  test_ = TestCycle{true, args.count == 3, 0, std::uint32_t(open), std::uint32_t(close)};
+  recorder_.start();
+  ok();
+}
+
+void Indicator::command_readtestdata(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: readtestdata");
+  if (reject_if_busy()) return;
+  if (!recorder_.has_data()) return error(2, "no test data");
+  printing_ = true;
+  print_index_ = 0;
+}
+
+void Indicator::command_dose(const Arguments& args) {
+  const Parameters& p = settings_.parameters;
+  long target = 0;
+  DosingStrategy strategy = DosingStrategy::model;
+  if (args.count < 2 || args.count > 3) return error(2, "usage: dose <grams> [<strategy>]");
+  if (!parse_int(args.word[1], 1, long(p.get(ParameterId::capacity_g)), target)) {
+    return error(2, "target out of range");
+  }
+  if (args.count == 3 && !parse_strategy(args.word[2], strategy)) return error(2, "unknown strategy");
+  if (!strategy_available(strategy)) return error(2, "strategy not in this build");
+  if (reject_if_busy()) return;
+  if (fault_ != Fault::none) return error(4, "fault active");
+  if (!settings_.calibration.valid()) return error(5, "not calibrated");
+  if (filtered_weight_g() + tare_g_ + float(target) > p.get(ParameterId::capacity_g)) {
+    return error(2, "target exceeds the scale's capacity");
+  }
+  dosing_.start(std::int32_t(target), strategy, filtered_weight_g());
+  dose_command_pending_ = true;
+  recorder_.start();
+}
+
+void Indicator::command_tare(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: tare");
+  if (reject_if_busy()) return;
+  if (!settings_.calibration.valid()) return error(5, "not calibrated");
+  tare_g_ += filtered_weight_g();
+  ok();
+}
+
+void Indicator::command_zero(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: zero");
+  if (reject_if_busy()) return;
+  Calibration& cal = settings_.calibration;
+  if (cal.valid()) {
+    // OIML R76: the zero-setting range is 4 % of Max; more is a load, not a zero error.
+    const float gross = (filtered_counts_ - cal.zero_counts) / cal.counts_per_gram;
+    if (std::fabs(gross) > 0.04f * settings_.parameters.get(ParameterId::capacity_g)) {
+      return error(2, "outside the zero range (4 % of capacity)");
+    }
+  }
+  cal.zero_counts = filtered_counts_;
+  cal.zero_set = true;
+  tare_g_ = 0.0f;
+  settings_changed_ = true;
+  ok();
+}
+
+void Indicator::command_cal(const Arguments& args) {
+  long grams = 0;
+  if (args.count != 2) return error(2, "usage: cal <grams>");
+  if (!parse_int(args.word[1], 1, long(settings_.parameters.get(ParameterId::capacity_g)), grams)) {
+    return error(2, "load out of range");
+  }
+  if (reject_if_busy()) return;
+  Calibration& cal = settings_.calibration;
+  if (!cal.zero_set) return error(5, "zero the empty scale first");
+  const float span_counts = filtered_counts_ - cal.zero_counts;
+  constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
+  if (span_counts < kMinimumSpanCounts) return error(2, "load too small to calibrate");
+  cal.counts_per_gram = span_counts / float(grams);
+  cal.span_set = true;
+  tare_g_ = 0.0f;
+  settings_changed_ = true;
+  ok();
+}
+
+void Indicator::command_status(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: status");
+  const char* state = fault_ != Fault::none                                   ? "fault"
+                      : dosing_.phase() == DosingCycle::Phase::settling       ? "settling"
+                      : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? "dosing"
+                                                                              : "idle";
+  console_.write("STATUS state=");
+  console_.write(state);
+  console_.write(" weight=");
+  console_.write_int(std::lround(filtered_weight_g()));
+  console_.write(" valve=");
+  console_.write_int(static_cast<int>(valve_));
+  console_.write(" fault=");
+  console_.line(fault_name(fault_));
+  ok();
+}
+
+namespace {
+void write_parameter(TextWriter& out, const Parameters& parameters, ParameterId id) {
+  const ParameterSpec& spec = parameter_spec(id);
+  out.write(spec.name);
+  out.put('=');
+  if (spec.choices) {
+    out.write(spec.choices[static_cast<int>(parameters.get(id))]);
+  } else {
+    out.write_decimal(parameters.get(id), 3);
+  }
+}
+}  // namespace
+
+void Indicator::command_param(const Arguments& args) {
+  Parameters& parameters = settings_.parameters;
+  if (args.count == 1) {
+    for (std::size_t i = 0; i < kParameterCount; ++i) {
+      const auto id = static_cast<ParameterId>(i);
+      write_parameter(console_, parameters, id);
+      console_.write("  # ");
+      console_.line(parameter_spec(id).description);
+    }
+    return ok();
+  }
+  if (args.count > 3) return error(2, "usage: param [<name> [<value>]]");
+  const ParameterId id = find_parameter(args.word[1]);
+  if (id == ParameterId::count) return error(2, "unknown parameter");
+  if (args.count == 3) {
+    if (reject_if_busy()) return;
+    const ParameterSpec& spec = parameter_spec(id);
+    float value = -1.0f;
+    for (std::uint8_t c = 0; spec.choices && c < spec.choice_count; ++c) {
+      if (std::strcmp(spec.choices[c], args.word[2]) == 0) value = float(c);
+    }
+    if (!spec.choices && !parse_decimal(args.word[2], value)) return error(2, "not a number");
+    if (!parameters.set(id, value)) return error(2, "value out of range");
+    apply_parameters();
+    settings_changed_ = true;
+  }
+  write_parameter(console_, parameters, id);
+  console_.put('\n');
+  ok();
+}
+
+void Indicator::command_valve(const Arguments& args) {
+  long position = 0;
+  if (args.count != 2 || !parse_int(args.word[1], 0, 2, position)) return error(2, "usage: valve <0|1|2>");
+  if (reject_if_busy()) return;
+  if (fault_ != Fault::none && position != 0) return error(4, "fault active");
+  manual_valve_ = static_cast<ValveCommand>(position);
+  ok();
+}
+
+void Indicator::command_clearfault(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: clearfault");
+  fault_ = Fault::none;
+  stale_jiffies_ = 0;
+  manual_valve_ = ValveCommand::closed;
+  ok();
+}
+
+void Indicator::command_help(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: help");
+  for (const CommandSpec& command : kCommands) console_.line(command.usage);
+  ok();
+}
+
+void Indicator::command_version(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: version");
+  console_.write("dynweigh ");
+  console_.line(kFirmwareVersion);
+  ok();
+}
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,206 @@
+#include "dynweigh/firmware/indicator.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace dynweigh::firmware {
+namespace {
+constexpr std::uint32_t kStaleLimitJiffies = 10;        // 100 ms without a sample
+constexpr std::size_t kRoomForAnAnswer = 1500;          // the longest answer (`param`, `help`)
+constexpr std::size_t kRoomForARecord = 48;
+constexpr float kOverloadMarginG = 9.0f;                // 9 d above Max, as OIML R76 blanks
+}  // namespace
+
+Indicator::Indicator(const PersistentSettings& settings) : settings_(settings) { apply_parameters(); }
+
+void Indicator::apply_parameters() {
+  const Parameters& p = settings_.parameters;
+  filter_.configure(p.filter(), p.get(ParameterId::filter_hz), p.get(ParameterId::jiffy_ms) / 1000.0f);
+  if (has_sample_) filter_.reset(filtered_counts_);  // otherwise the first sample primes it
+  dosing_.configure(p);
+}
+
+float Indicator::filtered_weight_g() const {
+  const Calibration& cal = settings_.calibration;
+  if (!cal.valid()) return 0.0f;
+  return (filtered_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
+}
+
+bool Indicator::cycle_running() const {
+  return dosing_.phase() != DosingCycle::Phase::idle || test_.active || recorder_.recording();
+}
+
+bool Indicator::busy() const { return queue_count_ > 0 || printing_ || cycle_running(); }
+
+void Indicator::error(int code, const char* text) {
+  console_.write("ERR ");
+  console_.write_int(code);
+  console_.put(' ');
+  console_.line(text);
+}
+
+bool Indicator::reject_if_busy() {
+  if (!cycle_running()) return false;
+  error(3, "busy");
+  return true;
+}
+
+void Indicator::raise(Fault fault) {
+  if (fault_ != Fault::none) return;  // the first cause is the one to report
+  fault_ = fault;
+  test_.scheduled = false;
+  if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
+  if (dose_command_pending_) {
+    dose_command_pending_ = false;
+    console_.write("ERR 4 fault ");
+    console_.line(fault_name(fault));
+  }
+}
+
+Outputs Indicator::step(const Inputs& inputs) {
+  settings_changed_ = false;
+  receive_console(inputs);
+  process_sample(inputs.load_cell);
+  execute_queued_commands();
+  advance_dose();
+  const ValveCommand scheduled = advance_test_cycle();
+  if (fault_ != Fault::none) {
+    valve_ = ValveCommand::closed;
+  } else if (dosing_.phase() != DosingCycle::Phase::idle || dose_command_pending_) {
+    valve_ = dosing_.valve();
+  } else {
+    valve_ = scheduled;
+  }
+  recorder_.record(std::int32_t(std::lround(raw_counts_)), std::int32_t(std::lround(filtered_weight_g())),
+                   static_cast<std::uint8_t>(valve_));
+  continue_print();
+
+  Outputs out;
+  out.valve = valve_;
+  out.answered_counter = inputs.load_cell.counter;
+  out.state = fault_ != Fault::none ? IndicatorState::fault
+              : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? IndicatorState::dosing
+              : dosing_.phase() == DosingCycle::Phase::settling ? IndicatorState::settling
+                                                                 : IndicatorState::idle;
+  out.weight_100mg = std::int32_t(std::lround(filtered_weight_g() * 10.0f));
+  out.settings_changed = settings_changed_;
+  out.busy = busy();
+  return out;
+}
+
+void Indicator::receive_console(const Inputs& inputs) {
+  for (std::size_t i = 0; i < inputs.console_rx_length; ++i) {
+    const ConsoleLineReader::Event event = reader_.feed(inputs.console_rx[i]);
+    if (event == ConsoleLineReader::Event::none) continue;
+    if (queue_count_ == kQueue) {
+      error(3, "busy");  // more lines than a console can have in flight: refuse, do not lose silently
+      continue;
+    }
+    QueuedLine& slot = queue_[(queue_head_ + queue_count_) % kQueue];
+    slot.too_long = event == ConsoleLineReader::Event::too_long;
+    std::strncpy(slot.text, slot.too_long ? "" : reader_.line(), sizeof slot.text);
+    slot.text[sizeof slot.text - 1] = '\0';
+    ++queue_count_;
+  }
+}
+
+void Indicator::execute_queued_commands() {
+  while (queue_count_ > 0 && !printing_ && console_.free_space() >= kRoomForAnAnswer) {
+    QueuedLine& line = queue_[queue_head_];
+    if (line.too_long) {
+      error(2, "line too long");
+    } else {
+      execute(line.text);
+    }
+    queue_head_ = (queue_head_ + 1) % kQueue;
+    --queue_count_;
+  }
+}
+
+void Indicator::process_sample(const LoadCellInput& sample) {
+  if (!sample.fresh) {
+    if (++stale_jiffies_ >= kStaleLimitJiffies) raise(Fault::stale_sample);
+    return;
+  }
+  stale_jiffies_ = 0;
+  last_counter_ = sample.counter;
+  if (sample.status & kLoadCellAdcError) raise(Fault::adc_error);
+  if (sample.status & kLoadCellOverload) raise(Fault::overload);
+  if (sample.status & kLoadCellUnderload) raise(Fault::underload);
+  raw_counts_ = float(sample.raw_counts);
+  has_sample_ = true;
+  filtered_counts_ = filter_.push(raw_counts_);
+  if (settings_.calibration.valid() &&
+      filtered_weight_g() + tare_g_ > settings_.parameters.get(ParameterId::capacity_g) + kOverloadMarginG) {
+    raise(Fault::overload);
+  }
+}
+
+void Indicator::advance_dose() {
+  if (dosing_.phase() == DosingCycle::Phase::idle) return;
+  const Calibration& cal = settings_.calibration;
+  const float net_g = (raw_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
+  switch (dosing_.step(net_g, filtered_weight_g())) {
+    case DosingCycle::Outcome::running:
+      return;
+    case DosingCycle::Outcome::timed_out:
+      raise(Fault::dose_timeout);
+      return;
+    case DosingCycle::Outcome::never_stable:
+      raise(Fault::never_stable);
+      return;
+    case DosingCycle::Outcome::certified:
+      break;
+  }
+  const DoseResult& r = dosing_.result();
+  console_.write("RESULT target=");
+  console_.write_int(r.target_g);
+  console_.write(" final=");
+  console_.write_int(r.final_g);
+  console_.write(" error=");
+  console_.write_int(r.final_g - r.target_g);
+  console_.write(" time=");
+  console_.write_int(r.time_ms);
+  console_.write(" cutoff=");
+  console_.write_int(r.cutoff_jiffy);
+  console_.write(" strategy=");
+  console_.line(strategy_name(r.strategy));
+  ok();
+  dose_command_pending_ = false;
+}
+
+ValveCommand Indicator::advance_test_cycle() {
+  if (!test_.active) return manual_valve_;
+  ValveCommand valve = manual_valve_;
+  if (test_.scheduled) {
+    const bool open = test_.jiffy >= test_.open_jiffy && test_.jiffy < test_.close_jiffy;
+    valve = open ? ValveCommand::open : ValveCommand::closed;
+  }
+  if (++test_.jiffy >= TestDataRecorder::kRecords) {
+    test_.active = false;
+    if (test_.scheduled) manual_valve_ = ValveCommand::closed;  // a scheduled cycle ends closed
+  }
+  return valve;
+}
+
+void Indicator::continue_print() {
+  while (printing_ && console_.free_space() >= kRoomForARecord) {
+    if (print_index_ == TestDataRecorder::kRecords) {
+      printing_ = false;
+      ok();
+      return;
+    }
+    const TestDataRecorder::Record r = recorder_.at(print_index_);
+    console_.write_int(std::int64_t(print_index_));
+    console_.put(' ');
+    console_.write_int(r.raw_counts);
+    console_.put(' ');
+    console_.write_int(r.filtered_g);
+    console_.put(' ');
+    console_.write_int(r.marker);
+    console_.put('\n');
+    ++print_index_;
+  }
+}
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,83 @@
+#include "dynweigh/firmware/persistent_settings.hpp"
+
+#include <cstring>
+
+namespace dynweigh::firmware {
+namespace {
+
+constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
+constexpr std::uint16_t kVersion = 1;
+
+void put_u32(std::uint8_t* p, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+}
+std::uint32_t get_u32(const std::uint8_t* p) {
+  std::uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
+  return v;
+}
+void put_f32(std::uint8_t* p, float f) {
+  std::uint32_t v;
+  std::memcpy(&v, &f, 4);
+  put_u32(p, v);
+}
+float get_f32(const std::uint8_t* p) {
+  const std::uint32_t v = get_u32(p);
+  float f;
+  std::memcpy(&f, &v, 4);
+  return f;
+}
+
+}  // namespace
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < length; ++i) {
+    crc ^= data[i];
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+// Layout, little-endian: magic u32, version u16, parameter count u16, length u32, crc u32 (over
+// everything after it), zero f32, span f32, flags u8 + 3 pad... parameters f32 each.
+std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity) {
+  if (capacity < kSettingsRecordSize) return 0;
+  std::memset(out, 0, kSettingsRecordSize);
+  put_u32(out, kMagic);
+  out[4] = std::uint8_t(kVersion);
+  out[5] = std::uint8_t(kVersion >> 8);
+  out[6] = std::uint8_t(kParameterCount);
+  out[7] = 0;
+  put_u32(out + 8, std::uint32_t(kSettingsRecordSize));
+  std::uint8_t* body = out + 16;
+  put_f32(body, settings.calibration.zero_counts);
+  put_f32(body + 4, settings.calibration.counts_per_gram);
+  // Flags live in the top bits of the parameter count's pad byte to keep the body float-aligned.
+  out[7] = std::uint8_t((settings.calibration.zero_set ? 1 : 0) | (settings.calibration.span_set ? 2 : 0));
+  for (std::size_t i = 0; i < kParameterCount; ++i) put_f32(body + 8 + 4 * i, settings.parameters.raw()[i]);
+  put_u32(out + 12, crc32(out + 16, kSettingsRecordSize - 16) ^ crc32(out, 12));
+  return kSettingsRecordSize;
+}
+
+bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
+  if (length < kSettingsRecordSize) return false;
+  if (get_u32(data) != kMagic) return false;
+  if ((data[4] | (data[5] << 8)) != kVersion || data[6] != kParameterCount) return false;
+  if (get_u32(data + 8) != kSettingsRecordSize) return false;
+  if (get_u32(data + 12) != (crc32(data + 16, kSettingsRecordSize - 16) ^ crc32(data, 12))) return false;
+  PersistentSettings decoded;
+  const std::uint8_t* body = data + 16;
+  decoded.calibration.zero_counts = get_f32(body);
+  decoded.calibration.counts_per_gram = get_f32(body + 4);
+  decoded.calibration.zero_set = (data[7] & 1) != 0;
+  decoded.calibration.span_set = (data[7] & 2) != 0;
+  for (std::size_t i = 0; i < kParameterCount; ++i) {
+    // A value outside today's range (an older firmware's table) falls back to the default.
+    decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 8 + 4 * i));
+  }
+  settings = decoded;
+  return true;
+}
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,65 @@
+#pragma once
+// The host board: an indicator and an in-process plant in lockstep, one plant jiffy per control
+// loop iteration. `dynweigh-fw`, the tests and the tools all run dosing cycles through this.
+#include <cstdint>
+#include <optional>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/control_loop.hpp"
+#include "dynweigh/hal/host/simulated_plant_ports.hpp"
+#include "dynweigh/sim/plant.hpp"
+
+namespace dynweigh::hal::host {
+
+// One CSV row (SPEC §5): the plant's truth beside the firmware's view, at the sample's instant.
+struct TraceRow {
+  double t_s = 0.0;
+  std::uint32_t jiffy = 0;
+  double static_kg = 0.0;
+  double in_flight_kg = 0.0;
+  double force_n = 0.0;
+  std::int32_t raw = 0;
+  double filtered_g = 0.0;
+  int valve = 0;
+};
+
+inline constexpr const char* kTraceHeader = "t_s,jiffy,static_kg,in_flight_kg,force_n,raw,filtered_g,valve";
+
+class LockstepSession {
+ public:
+  static constexpr double kJiffyS = 0.010;
+
+  // Without settings the indicator starts calibrated to the plant with default parameters.
+  LockstepSession(const sim::Scene& scene, std::uint64_t seed,
+                  std::optional<firmware::PersistentSettings> settings = std::nullopt,
+                  SettingsStore* store = nullptr);
+
+  firmware::Outputs step(ConsolePort& console);
+
+  sim::Plant& plant() { return plant_; }
+  firmware::Indicator& indicator() { return indicator_; }
+  std::uint32_t jiffy() const { return jiffy_; }
+  const TraceRow& last_row() const { return row_; }
+
+ private:
+  class RecordingLoadCell final : public LoadCellPort {
+   public:
+    explicit RecordingLoadCell(sim::Plant& plant) : inner_(plant) {}
+    firmware::LoadCellInput read_sample() override { return last_ = inner_.read_sample(); }
+    const firmware::LoadCellInput& last() const { return last_; }
+
+   private:
+    SimulatedLoadCell inner_;
+    firmware::LoadCellInput last_{};
+  };
+
+  sim::Plant plant_;
+  RecordingLoadCell load_cell_;
+  SimulatedValve valve_;
+  firmware::Indicator indicator_;
+  SettingsStore* store_;
+  std::uint32_t jiffy_ = 0;
+  TraceRow row_;
+};
+
+}  // namespace dynweigh::hal::host

@@ -1,0 +1,33 @@
+#pragma once
+// The load cell and valve ports of the host board, wired to an in-process plant. Lockstep: the
+// plant advances one jiffy per control-loop iteration, as fast as the CPU allows.
+#include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/hal/ports.hpp"
+#include "dynweigh/sim/plant.hpp"
+
+namespace dynweigh::hal::host {
+
+class SimulatedLoadCell final : public LoadCellPort {
+ public:
+  explicit SimulatedLoadCell(sim::Plant& plant) : plant_(plant) {}
+  firmware::LoadCellInput read_sample() override;
+
+ private:
+  sim::Plant& plant_;
+};
+
+class SimulatedValve final : public ValvePort {
+ public:
+  SimulatedValve(sim::Plant& plant, double jiffy_s) : plant_(plant), jiffy_s_(jiffy_s) {}
+  void command(firmware::ValveCommand command, std::uint8_t delay_100us) override;
+  firmware::ValvePosition position() const override;
+
+ private:
+  sim::Plant& plant_;
+  double jiffy_s_;
+};
+
+// An indicator freshly calibrated to this plant (SPEC §5: "starts calibrated to it").
+firmware::PersistentSettings factory_settings(const sim::Plant& plant);
+
+}  // namespace dynweigh::hal::host

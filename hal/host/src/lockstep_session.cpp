@@ -1,0 +1,25 @@
+#include "dynweigh/hal/host/lockstep_session.hpp"
+
+namespace dynweigh::hal::host {
+
+LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
+                                 std::optional<firmware::PersistentSettings> settings, SettingsStore* store)
+    : plant_(scene, seed),
+      load_cell_(plant_),
+      valve_(plant_, kJiffyS),
+      indicator_(settings ? *settings : factory_settings(plant_)),
+      store_(store) {}
+
+firmware::Outputs LockstepSession::step(ConsolePort& console) {
+  const sim::PlantTruth truth = plant_.truth();  // at the instant the sample is taken
+  Ports ports{load_cell_, valve_, console, store_};
+  const firmware::Outputs outputs = run_one_jiffy(indicator_, ports, jiffy_);
+  row_ = TraceRow{truth.time_s, jiffy_, truth.static_kg, truth.in_flight_kg, truth.force_n,
+                  load_cell_.last().raw_counts, double(indicator_.filtered_weight_g()),
+                  static_cast<int>(outputs.valve)};
+  plant_.advance(kJiffyS);
+  ++jiffy_;
+  return outputs;
+}
+
+}  // namespace dynweigh::hal::host

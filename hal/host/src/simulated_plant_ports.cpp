@@ -1,0 +1,33 @@
+#include "dynweigh/hal/host/simulated_plant_ports.hpp"
+
+namespace dynweigh::hal::host {
+
+firmware::LoadCellInput SimulatedLoadCell::read_sample() {
+  const sim::LoadCellSample sample = plant_.sample();
+  firmware::LoadCellInput input;
+  input.raw_counts = sample.raw_counts;
+  input.counter = sample.counter;
+  input.status = sample.status;
+  input.fresh = true;
+  return input;
+}
+
+void SimulatedValve::command(firmware::ValveCommand command, std::uint8_t delay_100us) {
+  const double delay_s = delay_100us < jiffy_s_ * 1e4 ? delay_100us * 1e-4 : 0.0;
+  plant_.command_valve(static_cast<sim::ValveCommand>(command), delay_s);
+}
+
+firmware::ValvePosition SimulatedValve::position() const {
+  return static_cast<firmware::ValvePosition>(plant_.valve_feedback());
+}
+
+firmware::PersistentSettings factory_settings(const sim::Plant& plant) {
+  firmware::PersistentSettings settings;
+  settings.calibration.zero_counts = float(plant.empty_counts());
+  settings.calibration.counts_per_gram = float(plant.counts_per_gram());
+  settings.calibration.zero_set = true;
+  settings.calibration.span_set = true;
+  return settings;
+}
+
+}  // namespace dynweigh::hal::host

@@ -1,0 +1,33 @@
+#pragma once
+// The loop every target runs: read the ports, step the indicator, apply its outputs.
+#include <cstddef>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/ports.hpp"
+
+namespace dynweigh::hal {
+
+struct Ports {
+  LoadCellPort& load_cell;
+  ValvePort& valve;
+  ConsolePort& console;
+  SettingsStore* settings = nullptr;  // nothing persists without one
+};
+
+inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& ports, std::uint32_t jiffy) {
+  char rx[128];
+  firmware::Inputs inputs;
+  inputs.jiffy = jiffy;
+  inputs.load_cell = ports.load_cell.read_sample();
+  inputs.valve_position = ports.valve.position();
+  inputs.console_rx = rx;
+  inputs.console_rx_length = ports.console.read(rx, sizeof rx);
+  const firmware::Outputs outputs = indicator.step(inputs);
+  ports.valve.command(outputs.valve, outputs.valve_delay_100us);
+  char tx[512];
+  for (std::size_t n; (n = indicator.drain_console(tx, sizeof tx)) > 0;) ports.console.write(tx, n);
+  if (outputs.settings_changed && ports.settings) ports.settings->save(indicator.settings());
+  return outputs;
+}
+
+}  // namespace dynweigh::hal

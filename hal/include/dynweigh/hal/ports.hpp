@@ -1,0 +1,54 @@
+#pragma once
+// The hardware the indicator needs, as five small ports. A target implements each; the control
+// loop (control_loop.hpp) is the same on all of them. Thin virtual interfaces at the edge: one
+// indirect call per port per jiffy, and no RTTI needed.
+#include <cstddef>
+#include <cstdint>
+
+#include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/persistent_settings.hpp"
+
+namespace dynweigh::hal {
+
+// The 10 ms tick. Lockstep boards return at once; real-time boards sleep until the next period.
+class JiffyClock {
+ public:
+  virtual ~JiffyClock() = default;
+  // Blocks until the next jiffy; false when the board is shutting down.
+  virtual bool wait_next_jiffy() = 0;
+  virtual std::uint32_t jiffy() const = 0;
+};
+
+// One load-cell sample per jiffy: raw counts and the converter's status bits.
+class LoadCellPort {
+ public:
+  virtual ~LoadCellPort() = default;
+  virtual firmware::LoadCellInput read_sample() = 0;
+};
+
+// The valve: a command (closed, half, open) applied `delay_100us` into the coming jiffy, and the
+// position the valve reports.
+class ValvePort {
+ public:
+  virtual ~ValvePort() = default;
+  virtual void command(firmware::ValveCommand command, std::uint8_t delay_100us) = 0;
+  virtual firmware::ValvePosition position() const = 0;
+};
+
+// The serial console: a byte stream in both directions, never blocking.
+class ConsolePort {
+ public:
+  virtual ~ConsolePort() = default;
+  virtual std::size_t read(char* destination, std::size_t capacity) = 0;
+  virtual void write(const char* data, std::size_t length) = 0;
+};
+
+// Non-volatile storage for calibration and parameters.
+class SettingsStore {
+ public:
+  virtual ~SettingsStore() = default;
+  virtual bool load(firmware::PersistentSettings& settings) = 0;
+  virtual bool save(const firmware::PersistentSettings& settings) = 0;
+};
+
+}  // namespace dynweigh::hal

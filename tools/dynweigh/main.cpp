@@ -1,0 +1,48 @@
+// dynweigh: the project's command-line tool (SPEC §5). One subcommand per job.
+#include <cstdio>
+#include <cstring>
+
+#include "commands.hpp"
+#ifdef DYNWEIGH_HAS_GRANULAR
+#include "granular_commands.hpp"
+#endif
+
+namespace {
+
+struct Subcommand {
+  const char* name;
+  const char* summary;
+  int (*run)(int, char**);
+};
+
+constexpr Subcommand kSubcommands[] = {
+    {"plot", "draw a cycle CSV (dynweigh-fw --csv) as PNG or SVG with gnuplot", dynweigh::tools::run_plot_command},
+#ifdef DYNWEIGH_HAS_GRANULAR
+    {"soc", "SOC sandpile (BTW): statistics and the avalanche force", run_soc_command},
+    {"poisson", "Poisson duct flow: velocity profile and alpha", run_poisson_command},
+    {"dem", "2D discrete element model of the silo", run_dem_command},
+#endif
+};
+
+void usage(std::FILE* out) {
+  std::fprintf(out, "usage: dynweigh <subcommand> [options]   (dynweigh <subcommand> --help for its options)\n\n");
+  for (const Subcommand& s : kSubcommands) std::fprintf(out, "  %-10s %s\n", s.name, s.summary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return 2;
+  }
+  if (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    usage(stdout);
+    return 0;
+  }
+  for (const Subcommand& s : kSubcommands) {
+    if (std::strcmp(argv[1], s.name) == 0) return s.run(argc - 1, argv + 1);
+  }
+  std::fprintf(stderr, "dynweigh: unknown subcommand '%s' (try dynweigh --help)\n", argv[1]);
+  return 2;
+}

@@ -1,0 +1,130 @@
+// dynweigh-fw: the indicator firmware on a host, against the in-process plant (SPEC §5).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "dynweigh/hal/host/file_settings_store.hpp"
+#include "dynweigh/hal/host/lockstep_session.hpp"
+#include "dynweigh/hal/host/pty_console.hpp"
+#include "dynweigh/hal/host/scripted_console.hpp"
+#include "dynweigh/sim/scene.hpp"
+#include "trace_csv.hpp"
+
+namespace {
+
+using namespace dynweigh;
+
+struct Options {
+  std::string plant = "sim:default";
+  std::string console = "stdio";
+  bool realtime = false;
+  std::uint64_t seed = 1;
+  std::string csv;
+  std::string nvm;
+};
+
+sim::Scene scene_from_plant_option(const std::string& plant) {
+  if (plant.rfind("can:", 0) == 0) {
+    throw std::runtime_error("--plant can:... needs the Linux CAN build, which this binary is not");
+  }
+  if (plant != "sim" && plant.rfind("sim:", 0) != 0) {
+    throw std::runtime_error("--plant must be sim[:<scene>] or can:<transport>, not '" + plant + "'");
+  }
+  const std::string name = plant.size() > 4 ? plant.substr(4) : "default";
+  const auto scene = sim::scene_by_name(name);
+  if (!scene) throw std::runtime_error("unknown scene '" + name + "'");
+  return *scene;
+}
+
+class Pacer {
+ public:
+  explicit Pacer(bool realtime) : realtime_(realtime), start_(std::chrono::steady_clock::now()) {}
+  void wait_for(std::uint32_t jiffy) const {
+    if (realtime_) std::this_thread::sleep_until(start_ + std::chrono::milliseconds(10) * jiffy);
+  }
+
+ private:
+  bool realtime_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+int run(const Options& options) {
+  const sim::Scene scene = scene_from_plant_option(options.plant);
+  std::unique_ptr<hal::host::FileSettingsStore> store;
+  std::optional<firmware::PersistentSettings> stored;
+  if (!options.nvm.empty()) {
+    store = std::make_unique<hal::host::FileSettingsStore>(options.nvm);
+    firmware::PersistentSettings settings;
+    if (store->load(settings)) stored = settings;
+  }
+  hal::host::LockstepSession session(scene, options.seed, stored, store.get());
+  if (store && !stored) store->save(session.indicator().settings());
+  std::unique_ptr<tools::TraceCsv> csv;
+  if (!options.csv.empty()) csv = std::make_unique<tools::TraceCsv>(options.csv);
+  const Pacer pacer(options.realtime);
+
+  if (options.console == "pty") {
+    hal::host::PtyConsole console;
+    std::printf("console=%s\n", console.device_path().c_str());
+    std::fflush(stdout);
+    for (bool busy = false;;) {
+      // Idle and silent: follow the wall clock; busy: run ahead (lockstep) unless --realtime.
+      if (!busy && !options.realtime) console.wait_for_input(10);
+      pacer.wait_for(session.jiffy());
+      busy = session.step(console).busy;
+      if (csv) csv->write(session.last_row());
+    }
+  }
+
+  hal::host::ScriptedConsole console(
+      [](std::string& line) { return bool(std::getline(std::cin, line)); },
+      [](const char* data, std::size_t n) {
+        std::fwrite(data, 1, n, stdout);
+        std::fflush(stdout);
+      });
+  for (;;) {
+    pacer.wait_for(session.jiffy());
+    const firmware::Outputs outputs = session.step(console);
+    if (csv) csv->write(session.last_row());
+    console.set_indicator_busy(outputs.busy);
+    if (console.input_ended() && !outputs.busy) return 0;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  CLI::App app{"dynweigh-fw: the dynweigh weigh-indicator firmware on a host, against a simulated plant.\n"
+               "Commands are read from the console (see `help`); with --console stdio each line is sent\n"
+               "once the previous command has finished, and the program exits 0 at end of input."};
+  app.add_option("--plant", options.plant, "sim[:<scene>] (in-process plant, lockstep) or can:<transport>")
+      ->capture_default_str();
+  app.add_option("--console", options.console, "stdio or pty (prints console=<device>)")
+      ->check(CLI::IsMember({"stdio", "pty"}))
+      ->capture_default_str();
+  app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time");
+  app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
+  app.add_option("--csv", options.csv, "write one row per jiffy: plant truth beside the firmware's view");
+  app.add_option("--nvm", options.nvm, "keep calibration and parameters in this file");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());
+    return 2;
+  }
+  try {
+    return run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());
+    return 1;
+  }
+}
