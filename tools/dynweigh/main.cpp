@@ -3,8 +3,14 @@
 #include <cstring>
 
 #include "commands.hpp"
+#ifdef DYNWEIGH_HAS_SIM
+#include "sim_commands.hpp"
+#endif
 #ifdef DYNWEIGH_HAS_GRANULAR
 #include "granular_commands.hpp"
+#endif
+#ifdef DYNWEIGH_HAS_PLANT
+#include "plant_commands.hpp"
 #endif
 
 namespace {
@@ -17,10 +23,16 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"plot", "draw a cycle CSV (dynweigh-fw --csv) as PNG or SVG with gnuplot", dynweigh::tools::run_plot_command},
+#ifdef DYNWEIGH_HAS_SIM
+    {"sim", "run a scene open-loop with a valve schedule, write the cycle CSV", run_sim_command},
+#endif
 #ifdef DYNWEIGH_HAS_GRANULAR
     {"soc", "SOC sandpile (BTW): statistics and the avalanche force", run_soc_command},
     {"poisson", "Poisson duct flow: velocity profile and alpha", run_poisson_command},
     {"dem", "2D discrete element model of the silo", run_dem_command},
+#endif
+#ifdef DYNWEIGH_HAS_PLANT
+    {"plant", "the simulator as the load-cell and valve modules on a CAN transport", run_plant_command},
 #endif
 };
 
