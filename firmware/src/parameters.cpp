@@ -20,7 +20,7 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"filter", "display filter: none, avg (moving average), iir (2nd-order low-pass)", 0, 2, 2,
      kFilterNames, 3},
     {"filter_hz", "display filter corner frequency, Hz", 0.1f, 20, 2, nullptr, 0},
-    {"preact_g", "preact strategy: close this far before the target, g", 0, 100000, 495, nullptr, 0},
+    {"preact_g", "preact strategy: close this far before the target, g", 0, 100000, 393, nullptr, 0},
     {"valve_dead_ms", "valve dead time from command to motion, ms", 0, 1000, 30, nullptr, 0},
     {"valve_stroke_ms", "valve full stroke time, ms", 0, 5000, 80, nullptr, 0},
     {"repose_deg", "angle of repose of the material, degrees", 5, 60, 32, nullptr, 0},
@@ -29,7 +29,7 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"stable_ms", "... for this long, ms", 50, 10000, 500, nullptr, 0},
     {"dose_timeout_s", "fault when a dose has not reached its target by then, s", 1, 3600, 120,
      nullptr, 0},
-    {"model_window_ms", "model strategy: flow regression window, ms", 100, 1270, 800, nullptr, 0},
+    {"model_window_ms", "model strategy: flow regression window, ms", 100, 1270, 1000, nullptr, 0},
     {"impact_settle_ms", "model strategy: ignore this long after the first impact, ms", 0, 5000, 300,
      nullptr, 0},
 };

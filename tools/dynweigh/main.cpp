@@ -15,6 +15,8 @@
 
 namespace {
 
+using namespace dynweigh::tools;  // subcommands live here or at global scope
+
 struct Subcommand {
   const char* name;
   const char* summary;
@@ -22,7 +24,7 @@ struct Subcommand {
 };
 
 constexpr Subcommand kSubcommands[] = {
-    {"plot", "draw a cycle CSV (dynweigh-fw --csv) as PNG or SVG with gnuplot", dynweigh::tools::run_plot_command},
+    {"plot", "draw a cycle CSV (dynweigh-fw --csv) as PNG or SVG with gnuplot", run_plot_command},
 #ifdef DYNWEIGH_HAS_SIM
     {"sim", "run a scene open-loop with a valve schedule, write the cycle CSV", run_sim_command},
 #endif

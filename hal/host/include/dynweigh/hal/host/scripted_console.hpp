@@ -19,6 +19,9 @@ class ScriptedConsole final : public ConsolePort {
   // The indicator's `busy` from the last jiffy: no new line while it is set.
   void set_indicator_busy(bool busy) { busy_ = busy; }
   bool input_ended() const { return ended_; }
+  bool line_in_transit() const { return !pending_.empty(); }
+  // More input may come after all (an interactive source): ask the source again.
+  void reopen() { ended_ = false; }
 
   std::size_t read(char* destination, std::size_t capacity) override;
   void write(const char* data, std::size_t length) override { sink_(data, length); }

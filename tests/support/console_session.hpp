@@ -1,0 +1,103 @@
+#pragma once
+// Drives a LockstepSession through its console as a script would: one line at a time, each once
+// the previous command has finished; collects everything the indicator printed.
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dynweigh/hal/host/lockstep_session.hpp"
+#include "dynweigh/hal/host/scripted_console.hpp"
+#include "dynweigh/sim/scene.hpp"
+
+namespace dynweigh::testing {
+
+class ConsoleSession {
+ public:
+  explicit ConsoleSession(const sim::Scene& scene = sim::default_scene(), std::uint64_t seed = 1,
+                          std::optional<firmware::PersistentSettings> settings = std::nullopt)
+      : session_(scene, seed, settings),
+        console_([this](std::string& line) { return next_line(line); },
+                 [this](const char* data, std::size_t n) { output_.append(data, n); }) {}
+
+  // Sends the lines and runs until the last command has finished (or `max_jiffies` pass).
+  std::string run(const std::vector<std::string>& lines, std::uint32_t max_jiffies = 20000) {
+    output_.clear();
+    for (const auto& line : lines) script_.push_back(line);
+    console_.reopen();
+    for (std::uint32_t i = 0; i < max_jiffies; ++i) {
+      const firmware::Outputs out = step();
+      if (script_.empty() && !out.busy && !console_.line_in_transit()) return output_;
+    }
+    return output_;
+  }
+
+  // Lets `jiffies` pass with no input.
+  void idle(std::uint32_t jiffies) {
+    for (std::uint32_t i = 0; i < jiffies; ++i) step();
+  }
+
+  firmware::Outputs step() {
+    const firmware::Outputs out = session_.step(console_);
+    console_.set_indicator_busy(out.busy);
+    trace_.push_back(session_.last_row());
+    return out;
+  }
+
+  // Raw bytes straight into the indicator, bypassing the line-at-a-time script.
+  std::string send_raw(const std::string& bytes, std::uint32_t jiffies = 5) {
+    output_.clear();
+    RawConsole raw{bytes, output_};
+    for (std::uint32_t i = 0; i < jiffies; ++i) session_.step(raw);
+    return output_;
+  }
+
+  hal::host::LockstepSession& session() { return session_; }
+  const std::vector<hal::host::TraceRow>& trace() const { return trace_; }
+
+ private:
+  struct RawConsole final : hal::ConsolePort {
+    RawConsole(std::string bytes, std::string& out) : pending(std::move(bytes)), output(out) {}
+    std::size_t read(char* destination, std::size_t capacity) override {
+      const std::size_t n = std::min(capacity, pending.size());
+      pending.copy(destination, n);
+      pending.erase(0, n);
+      return n;
+    }
+    void write(const char* data, std::size_t n) override { output.append(data, n); }
+    std::string pending;
+    std::string& output;
+  };
+
+  bool next_line(std::string& line) {
+    if (script_.empty()) return false;
+    line = script_.front();
+    script_.pop_front();
+    return true;
+  }
+
+  hal::host::LockstepSession session_;
+  hal::host::ScriptedConsole console_;
+  std::deque<std::string> script_;
+  std::string output_;
+  std::vector<hal::host::TraceRow> trace_;
+};
+
+inline std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The value of `key=` in a key=value line, or empty.
+inline std::string field(const std::string& line, const std::string& key) {
+  const auto at = line.find(key + "=");
+  if (at == std::string::npos) return "";
+  const auto begin = at + key.size() + 1;
+  return line.substr(begin, line.find(' ', begin) - begin);
+}
+
+}  // namespace dynweigh::testing

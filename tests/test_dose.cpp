@@ -1,0 +1,82 @@
+// `dose 10000` in the default scene, judged by the plant's true mass, never the firmware's claim.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "support/console_session.hpp"
+
+namespace dynweigh::testing {
+namespace {
+
+struct Fill {
+  double true_error_g;
+  long reported_error_g;
+  double time_s;
+};
+
+Fill dose(const std::string& command, std::uint64_t seed) {
+  ConsoleSession c(sim::default_scene(), seed);
+  c.idle(20);  // the display filter settles on the empty scale
+  const double before = c.session().plant().truth().static_kg;
+  const auto lines = lines_of(c.run({command}));
+  EXPECT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines.back(), "OK");
+  const std::string result = lines.empty() ? "" : lines.front();
+  EXPECT_EQ(result.rfind("RESULT target=", 0), 0u) << result;
+  // Everything released must have landed by the time the result is certified.
+  EXPECT_LT(c.session().plant().truth().in_flight_kg, 1e-9);
+  const double fill_g = (c.session().plant().truth().static_kg - before) * 1000.0;
+  const long target = std::stol(field(result, "target"));
+  return {fill_g - double(target), std::stol(field(result, "error")), std::stod(field(result, "time")) / 1000.0};
+}
+
+struct Spread {
+  double mean = 0, sd = 0, worst = 0, mean_time = 0, reported_vs_true = 0;
+};
+
+Spread over_seeds(const std::string& command, int seeds) {
+  std::vector<Fill> fills;
+  for (int s = 1; s <= seeds; ++s) fills.push_back(dose(command, std::uint64_t(s)));
+  Spread spread;
+  for (const auto& f : fills) {
+    spread.mean += f.true_error_g / seeds;
+    spread.mean_time += f.time_s / seeds;
+    spread.worst = std::max(spread.worst, std::abs(f.true_error_g));
+    spread.reported_vs_true = std::max(spread.reported_vs_true, std::abs(double(f.reported_error_g) - f.true_error_g));
+  }
+  for (const auto& f : fills) spread.sd += (f.true_error_g - spread.mean) * (f.true_error_g - spread.mean);
+  spread.sd = std::sqrt(spread.sd / (seeds - 1));
+  std::printf("%s: true error mean %.1f g, sd %.1f g, worst %.1f g; time %.2f s; |reported - true| <= %.1f g\n",
+              command.c_str(), spread.mean, spread.sd, spread.worst, spread.mean_time, spread.reported_vs_true);
+  return spread;
+}
+
+TEST(Dose, ModelStrategyFills10kgWithin100gOver20Seeds) {
+  const Spread model = over_seeds("dose 10000 model", 20);
+  EXPECT_LE(model.worst, 100.0);
+  // The certified result is the scale's reading of the true fill: within a few divisions.
+  EXPECT_LE(model.reported_vs_true, 3.0);
+}
+
+TEST(Dose, PreactStrategyIsMeasuredBesideIt) {
+  const Spread preact = over_seeds("dose 10000 preact", 20);
+  // With its default preact (tuned on this scene) the baseline also lands near the target; this
+  // pins that the yardstick is honest, not that it is good.
+  EXPECT_LE(std::abs(preact.mean), 100.0);
+  EXPECT_LE(preact.reported_vs_true, 3.0);
+}
+
+TEST(Dose, DefaultIsTheModelStrategy) {
+  ConsoleSession c;
+  EXPECT_EQ(field(lines_of(c.run({"dose 3000"}))[0], "strategy"), "model");
+}
+
+TEST(Dose, StrategiesNotInThisBuildAreRefusedWithTheValveClosed) {
+  ConsoleSession c;
+  EXPECT_EQ(c.run({"dose 3000 twostage"}), "ERR 2 strategy not in this build\n");
+  EXPECT_EQ(c.session().last_row().valve, 0);
+}
+
+}  // namespace
+}  // namespace dynweigh::testing
