@@ -1,19 +1,19 @@
 // dynweigh-fw: the indicator firmware on a host, against the in-process plant (SPEC §5).
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "dynweigh/hal/host/file_settings_store.hpp"
+#include "dynweigh/hal/host/host_clock.hpp"
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "can_plant_loop.hpp"
 #include "trace_csv.hpp"
 
 namespace {
@@ -30,9 +30,6 @@ struct Options {
 };
 
 sim::Scene scene_from_plant_option(const std::string& plant) {
-  if (plant.rfind("can:", 0) == 0) {
-    throw std::runtime_error("--plant can:... needs the Linux CAN build, which this binary is not");
-  }
   if (plant != "sim" && plant.rfind("sim:", 0) != 0) {
     throw std::runtime_error("--plant must be sim[:<scene>] or can:<transport>, not '" + plant + "'");
   }
@@ -42,19 +39,10 @@ sim::Scene scene_from_plant_option(const std::string& plant) {
   return *scene;
 }
 
-class Pacer {
- public:
-  explicit Pacer(bool realtime) : realtime_(realtime), start_(std::chrono::steady_clock::now()) {}
-  void wait_for(std::uint32_t jiffy) const {
-    if (realtime_) std::this_thread::sleep_until(start_ + std::chrono::milliseconds(10) * jiffy);
-  }
-
- private:
-  bool realtime_;
-  std::chrono::steady_clock::time_point start_;
-};
-
 int run(const Options& options) {
+  if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
+    return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm});
+  }
   const sim::Scene scene = scene_from_plant_option(options.plant);
   std::unique_ptr<hal::host::FileSettingsStore> store;
   std::optional<firmware::PersistentSettings> stored;
@@ -67,7 +55,7 @@ int run(const Options& options) {
   if (store && !stored) store->save(session.indicator().settings());
   std::unique_ptr<tools::TraceCsv> csv;
   if (!options.csv.empty()) csv = std::make_unique<tools::TraceCsv>(options.csv);
-  const Pacer pacer(options.realtime);
+  hal::host::HostClock clock(options.realtime);
 
   if (options.console == "pty") {
     hal::host::PtyConsole console;
@@ -76,9 +64,9 @@ int run(const Options& options) {
     for (bool busy = false;;) {
       // Idle and silent: follow the wall clock; busy: run ahead (lockstep) unless --realtime.
       if (!busy && !options.realtime) console.wait_for_input(10);
-      pacer.wait_for(session.jiffy());
       busy = session.step(console).busy;
       if (csv) csv->write(session.last_row());
+      clock.wait_next_jiffy();
     }
   }
 
@@ -89,11 +77,11 @@ int run(const Options& options) {
         std::fflush(stdout);
       });
   for (;;) {
-    pacer.wait_for(session.jiffy());
     const firmware::Outputs outputs = session.step(console);
     if (csv) csv->write(session.last_row());
     console.set_indicator_busy(outputs.busy);
     if (console.input_ended() && !outputs.busy) return 0;
+    clock.wait_next_jiffy();
   }
 }
 
