@@ -13,7 +13,6 @@
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/scene.hpp"
-#include "can_plant_loop.hpp"
 #include "trace_csv.hpp"
 
 namespace {
@@ -30,6 +29,9 @@ struct Options {
 };
 
 sim::Scene scene_from_plant_option(const std::string& plant) {
+  if (plant.rfind("can:", 0) == 0) {
+    throw std::runtime_error("--plant can:... needs the Linux CAN build, which this binary is not");
+  }
   if (plant != "sim" && plant.rfind("sim:", 0) != 0) {
     throw std::runtime_error("--plant must be sim[:<scene>] or can:<transport>, not '" + plant + "'");
   }
@@ -40,9 +42,6 @@ sim::Scene scene_from_plant_option(const std::string& plant) {
 }
 
 int run(const Options& options) {
-  if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
-    return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm});
-  }
   const sim::Scene scene = scene_from_plant_option(options.plant);
   std::unique_ptr<hal::host::FileSettingsStore> store;
   std::optional<firmware::PersistentSettings> stored;
