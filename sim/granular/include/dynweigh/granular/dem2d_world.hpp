@@ -1,0 +1,140 @@
+#pragma once
+// The 2D discrete element method (thesis section 3.4, done as Cundall & Strack 1979): soft discs
+// with the spring-dashpot contact of dem_contact_parameters.hpp, rotation, fixed wall segments
+// and fixed discs, velocity Verlet (as LAMMPS' fix nve/sphere), and a Verlet neighbour list with
+// a skin built from a cell list, carrying each contact's tangential history across rebuilds.
+//
+// Layout: structure of arrays for the per-disc hot data; pairs and wall contacts in flat arrays
+// reserved at set-up. step() neither allocates (while the reserved capacity holds) nor throws.
+// Fixed discs (a wall built of discs, as in the peer silo) are never moved; the contact force on
+// them and on every wall segment is kept each step: that is the force on the scale.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "dynweigh/granular/cell_grid.hpp"
+#include "dynweigh/granular/dem_contact_parameters.hpp"
+#include "dynweigh/granular/wall_segment.hpp"
+
+namespace dynweigh::granular {
+
+struct Dem2dSettings {
+  ContactParameters contact;
+  double time_step_s = 5e-4;
+  double gravity_x = 0.0;
+  double gravity_y = -9.81;  // SPEC section 2; scenes in reduced units set -1
+  double skin = 0.3;         // neighbour-list skin (peer: "neighbor 0.3 bin")
+  // Domain of the cell list; discs outside are still handled (clamped into border cells).
+  double domain_min_x = 0, domain_min_y = 0, domain_max_x = 1, domain_max_y = 1;
+  // Moving discs that fall below this height are taken out at the next list rebuild (the
+  // peer's fixed box boundary with "lost ignore").
+  double remove_below_y = -std::numeric_limits<double>::infinity();
+};
+
+struct DiscSpec {
+  double x = 0, y = 0;
+  double radius = 0.5;
+  double mass = 1.0;
+  double inertia_factor = 0.5;  // I = factor m r^2: 0.5 for a disc, 0.4 for LAMMPS' spheres
+  bool fixed = false;
+  double vx = 0, vy = 0, omega = 0;
+};
+
+struct Force2 {
+  double x = 0, y = 0;
+};
+
+class Dem2dWorld {
+ public:
+  Dem2dWorld(const Dem2dSettings& settings, std::size_t disc_capacity);
+
+  // Set-up.
+  std::size_t add_disc(const DiscSpec& disc);
+  std::size_t add_wall(const WallSegment& wall);
+  // Removes every disc (moving or fixed, as asked) whose centre lies in the box; keeps history.
+  std::size_t remove_discs_in_box(double min_x, double max_x, double min_y, double max_y, bool fixed_only);
+
+  // Time stepping.
+  void step();
+  void run(std::int64_t steps) {
+    for (std::int64_t s = 0; s < steps; ++s) step();
+  }
+
+  // State.
+  const Dem2dSettings& settings() const { return settings_; }
+  std::size_t size() const { return count_; }
+  std::size_t moving_count() const;
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  std::int64_t removed() const { return removed_; }
+  std::int64_t list_rebuilds() const { return rebuilds_; }
+  std::size_t pair_count() const { return pairs_.size(); }
+  double x(std::size_t i) const { return x_[i]; }
+  double y(std::size_t i) const { return y_[i]; }
+  double vx(std::size_t i) const { return vx_[i]; }
+  double vy(std::size_t i) const { return vy_[i]; }
+  double omega(std::size_t i) const { return omega_[i]; }
+  double radius(std::size_t i) const { return radius_[i]; }
+  double mass(std::size_t i) const { return mass_[i]; }
+  bool fixed(std::size_t i) const { return inv_mass_[i] == 0.0; }
+  std::size_t wall_count() const { return walls_.size(); }
+  // Contact force the discs exerted on a wall segment / on all fixed discs in the last step.
+  Force2 wall_force(std::size_t wall) const { return wall_force_[wall]; }
+  Force2 fixed_disc_force() const { return fixed_disc_force_; }
+  std::size_t count_moving_above(double y) const;
+
+  // Energies (for the conservation test): kinetic incl. rotation, gravitational relative to
+  // y = 0, elastic of the normal and tangential springs of every contact.
+  double kinetic_energy() const;
+  double potential_energy() const;
+  double elastic_energy() const;
+
+ private:
+  struct Pair {
+    std::uint32_t i, j;
+    double effective_mass;
+    double shear_x, shear_y;  // tangential history s
+  };
+  struct WallContact {
+    std::uint32_t i, wall;
+    double shear_x, shear_y;
+  };
+
+  void half_kick();
+  void drift();
+  void compute_forces();
+  void rebuild_lists();
+  void compact(std::vector<std::int32_t>& new_index);
+  void build_pairs();
+  void build_wall_contacts();
+
+  Dem2dSettings settings_;
+  std::size_t capacity_;
+  std::size_t count_ = 0;
+  double time_ = 0;
+  std::int64_t steps_ = 0;
+  std::int64_t removed_ = 0;
+  std::int64_t rebuilds_ = 0;
+  bool lists_valid_ = false;
+  bool grid_configured_ = false;
+  double travel_since_build_ = 0;  // upper bound of any disc's displacement since the last build
+  double max_radius_ = 0;
+
+  // Per disc, structure of arrays.
+  std::vector<double> x_, y_, vx_, vy_, omega_, fx_, fy_, torque_;
+  std::vector<double> radius_, mass_, inv_mass_, inv_inertia_, weight_x_, weight_y_;
+
+  std::vector<WallSegment> walls_;
+  std::vector<Force2> wall_force_;
+  Force2 fixed_disc_force_;
+  std::vector<std::uint32_t> fixed_list_;
+
+  std::vector<Pair> pairs_, old_pairs_;  // sorted by (i, j), i < j
+  std::vector<std::uint32_t> first_pair_;  // pairs of disc i: [first_pair_[i], first_pair_[i+1])
+  std::vector<WallContact> wall_contacts_, old_wall_contacts_;
+  std::vector<std::uint32_t> scratch_;
+  std::vector<std::int32_t> new_index_;
+  CellGrid grid_;
+};
+
+}  // namespace dynweigh::granular
