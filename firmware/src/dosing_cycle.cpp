@@ -3,12 +3,24 @@
 #include <cmath>
 
 namespace dynweigh::firmware {
+namespace {
+// Dynamic certification: the fit's standard error of W within one division, and five successive
+// estimates agreeing within half a division. (The least-squares error is pessimistic here: its
+// regressors carry the noise too; the bench measures the certified result against the truth.)
+constexpr float kCertifiedErrorG = 1.0f;
+constexpr float kAgreementG = 0.5f;
+constexpr float kConfidenceSigmas = 1.0f;
+}  // namespace
 
 void DosingCycle::configure(const Parameters& p) {
   model_.configure(p);
   jiffy_s_ = p.get(ParameterId::jiffy_ms) / 1000.0f;
   preact_g_ = p.get(ParameterId::preact_g);
+  twostage_band_g_ = p.get(ParameterId::twostage_band_g);
+  twostage_preact_g_ = p.get(ParameterId::twostage_preact_g);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
+  subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
+  certify_mode_ = p.certify();
   stable_.configure(p.get(ParameterId::stable_band_g),
                     std::uint32_t(p.get(ParameterId::stable_ms) / p.get(ParameterId::jiffy_ms)));
 }
@@ -20,47 +32,116 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, float st
   start_weight_g_ = start_weight_g;
   jiffies_ = 0;
   last_prediction_g_ = 0.0f;
-  close_delay_fraction_ = 0.0f;
+  valve_delay_100us_ = 0;
   model_.start(start_weight_g);
   stable_.reset();
+  settling_fit_.reset();
+  estimates_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::open;
 }
 
-bool DosingCycle::should_close(float net_weight_g, float filtered_weight_g) {
+bool DosingCycle::decide_model(float net_weight_g) {
   const float target = float(result_.target_g);
-  if (result_.strategy == DosingStrategy::preact) {
-    last_prediction_g_ = filtered_weight_g - start_weight_g_ + preact_g_;
-    return last_prediction_g_ >= target;
-  }
   last_prediction_g_ = model_.observe(net_weight_g);
-  // Close at the jiffy whose half-way point the prediction crosses: the error is then at most
-  // half a jiffy's growth either way, not a whole jiffy's late.
-  return last_prediction_g_ + 0.5f * model_.growth_per_jiffy_g() >= target;
+  const float growth = model_.growth_per_jiffy_g();
+  if (!subjiffy_) {
+    // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
+    return last_prediction_g_ + 0.5f * growth >= target;
+  }
+  if (last_prediction_g_ + growth < target) return false;
+  // The target falls within the coming jiffy: close exactly when the prediction reaches it.
+  const float fraction = growth > 0.0f ? (target - last_prediction_g_) / growth : 0.0f;
+  const float clamped = fraction < 0.0f ? 0.0f : (fraction > 0.99f ? 0.99f : fraction);
+  valve_delay_100us_ = std::uint8_t(std::lround(clamped * jiffy_s_ * 1e4f));
+  if (valve_delay_100us_ > 99) valve_delay_100us_ = 99;
+  return true;
+}
+
+bool DosingCycle::decide_preact(float filtered_weight_g, float preact_g) {
+  last_prediction_g_ = filtered_weight_g - start_weight_g_ + preact_g;
+  return last_prediction_g_ >= float(result_.target_g);
+}
+
+bool DosingCycle::decide_twostage(float filtered_weight_g) {
+  const float filled = filtered_weight_g - start_weight_g_;
+  if (valve_ == ValveCommand::open && filled >= float(result_.target_g) - twostage_band_g_) {
+    valve_ = ValveCommand::half;  // fine feed: less in flight, so less to be wrong about
+  }
+  if (valve_ != ValveCommand::half) {
+    last_prediction_g_ = filled;
+    return false;
+  }
+  return decide_preact(filtered_weight_g, twostage_preact_g_);
+}
+
+void DosingCycle::close_valve(float settle_delay_s) {
+  valve_ = ValveCommand::closed;
+  phase_ = Phase::settling;
+  result_.cutoff_jiffy = jiffies_;
+  settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil((settle_delay_s + 0.1f) / jiffy_s_));
+}
+
+bool DosingCycle::certify_dynamically() const {
+  if (certify_mode_ == CertifyMode::dynamic) return true;
+  if (certify_mode_ == CertifyMode::stable) return false;
+  return result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn;
+}
+
+bool DosingCycle::certify(float net_weight_g, float filtered_weight_g) {
+  if (stable_.push(filtered_weight_g)) {
+    result_.final_g = std::int32_t(std::lround(stable_.mean() - start_weight_g_));
+    return true;
+  }
+  if (!certify_dynamically()) return false;
+  settling_fit_.push(net_weight_g);
+  const auto estimate = settling_fit_.fit();
+  if (!estimate.valid) return false;
+  recent_estimates_[estimates_ % kAgreementJiffies] = estimate.final_value;
+  ++estimates_;
+  if (estimates_ < kAgreementJiffies || kConfidenceSigmas * estimate.standard_error > kCertifiedErrorG) return false;
+  float low = recent_estimates_[0], high = recent_estimates_[0];
+  for (float e : recent_estimates_) {
+    low = e < low ? e : low;
+    high = e > high ? e : high;
+  }
+  if (high - low > kAgreementG) return false;
+  result_.final_g = std::int32_t(std::lround(estimate.final_value - start_weight_g_));
+  return true;
 }
 
 DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight_g) {
   if (phase_ == Phase::idle) return Outcome::running;
   ++jiffies_;
+  valve_delay_100us_ = 0;
   const float elapsed_s = float(jiffies_) * jiffy_s_;
   if (phase_ == Phase::dosing) {
-    if (should_close(net_weight_g, filtered_weight_g)) {
-      valve_ = ValveCommand::closed;
-      phase_ = Phase::settling;
-      result_.cutoff_jiffy = jiffies_;
-      const float settle_s = model_.settle_delay_s() + 0.1f;
-      settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil(settle_s / jiffy_s_));
+    bool close = false;
+    switch (result_.strategy) {
+      case DosingStrategy::model:
+      case DosingStrategy::learn:
+        close = decide_model(net_weight_g);
+        break;
+      case DosingStrategy::preact:
+        close = decide_preact(filtered_weight_g, preact_g_);
+        break;
+      case DosingStrategy::twostage:
+        close = decide_twostage(filtered_weight_g);
+        break;
+    }
+    if (close) {
+      close_valve(model_.settle_delay_s());
     } else if (elapsed_s > timeout_s_) {
       abort();
       return Outcome::timed_out;
     }
     return Outcome::running;
   }
-  // Settling: only once the last grain has landed does a stable reading mean the fill is complete.
+  // Settling: only once the last grain has landed does the reading describe the whole fill.
   if (jiffies_ < settle_from_jiffy_) return Outcome::running;
-  if (stable_.push(filtered_weight_g)) {
-    result_.final_g = std::int32_t(std::lround(stable_.mean() - start_weight_g_));
+  if (certify(net_weight_g, filtered_weight_g)) {
     result_.time_ms = std::uint32_t(std::lround(elapsed_s * 1000.0f));
+    if (result_.strategy == DosingStrategy::twostage) adapt_twostage_preact();
     phase_ = Phase::idle;
     return Outcome::certified;
   }
@@ -69,6 +150,17 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     return Outcome::never_stable;
   }
   return Outcome::running;
+}
+
+void DosingCycle::adapt_twostage_preact() {
+  // Rice Lake's PREACT LEARN: correct half the last error; capped like SIWAREX so that one odd
+  // fill cannot throw the preact far.
+  const float error = float(result_.final_g - result_.target_g);
+  const float cap = 10.0f + 0.25f * twostage_preact_g_;
+  float step = 0.5f * error;
+  step = step > cap ? cap : (step < -cap ? -cap : step);
+  const float next = twostage_preact_g_ + step;
+  twostage_preact_g_ = next < 0.0f ? 0.0f : next;
 }
 
 }  // namespace dynweigh::firmware

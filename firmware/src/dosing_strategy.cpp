@@ -20,7 +20,7 @@ bool parse_strategy(const char* name, DosingStrategy& strategy) {
 }
 
 bool strategy_available(DosingStrategy strategy) {
-  return strategy == DosingStrategy::model || strategy == DosingStrategy::preact;
+  return strategy != DosingStrategy::learn;
 }
 
 }  // namespace dynweigh::firmware

@@ -66,7 +66,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   const ValveCommand scheduled = advance_test_cycle();
   if (fault_ != Fault::none) {
     valve_ = ValveCommand::closed;
-  } else if (dosing_.phase() != DosingCycle::Phase::idle || dose_command_pending_) {
+  } else if (dosing_.phase() != DosingCycle::Phase::idle) {
     valve_ = dosing_.valve();
   } else {
     valve_ = scheduled;
@@ -77,6 +77,7 @@ Outputs Indicator::step(const Inputs& inputs) {
 
   Outputs out;
   out.valve = valve_;
+  out.valve_delay_100us = dosing_.phase() == DosingCycle::Phase::idle ? 0 : dosing_.valve_delay_100us();
   out.answered_counter = inputs.load_cell.counter;
   out.state = fault_ != Fault::none ? IndicatorState::fault
               : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? IndicatorState::dosing
@@ -153,6 +154,10 @@ void Indicator::advance_dose() {
       break;
   }
   const DoseResult& r = dosing_.result();
+  if (r.strategy == DosingStrategy::twostage) {
+    settings_.parameters.set(ParameterId::twostage_preact_g, dosing_.adapted_twostage_preact_g());
+    settings_changed_ = true;
+  }
   console_.write("RESULT target=");
   console_.write_int(r.target_g);
   console_.write(" final=");

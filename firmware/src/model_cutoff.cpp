@@ -52,7 +52,9 @@ void ModelCutoff::start(float start_weight_g) {
 }
 
 float ModelCutoff::prior_prediction_g() const {
-  const float flowing_s = std::fmax(0.0f, float(jiffies_) * jiffy_s_ - opening_delay_s_);
+  // The sample of the n-th jiffy shows n - 1 jiffies of the valve's being open.
+  const float open_s = float(jiffies_ - 1) * jiffy_s_;
+  const float flowing_s = std::fmax(0.0f, open_s - opening_delay_s_);
   return 1000.0f * prior_rate_kg_s_ * (flowing_s + geometry_.closing_flow_seconds);
 }
 

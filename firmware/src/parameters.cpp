@@ -7,6 +7,7 @@ namespace dynweigh::firmware {
 namespace {
 
 const char* const kFilterNames[] = {"none", "avg", "iir"};
+const char* const kCertifyNames[] = {"auto", "stable", "dynamic"};
 
 // The defaults are the thesis' setup (shared/seed table 2.2) and SPEC §2's valve. `preact_g` is
 // tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (README).
@@ -31,6 +32,13 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      nullptr, 0},
     {"model_window_ms", "model strategy: flow regression window, ms", 100, 1270, 1000, nullptr, 0},
     {"impact_settle_ms", "model strategy: ignore this long after the first impact, ms", 0, 5000, 300,
+     nullptr, 0},
+    {"subjiffy", "time the close within the jiffy (valve delay byte): 1 on, 0 off", 0, 1, 1, nullptr, 0},
+    {"certify", "result certification: auto (dynamic for model/learn), stable, dynamic", 0, 2, 0,
+     kCertifyNames, 3},
+    {"twostage_band_g", "twostage strategy: fine feed (half open) this far before the target, g", 0, 100000,
+     1000, nullptr, 0},
+    {"twostage_preact_g", "twostage strategy: fine-feed preact, adapted after each fill, g", 0, 100000, 60,
      nullptr, 0},
 };
 

@@ -1,6 +1,8 @@
 #pragma once
-// One dose, from `dose` to its certified result: the valve opens, the strategy decides the cutoff,
-// the scale settles, the stable weight is the result. A fault aborts it with the valve closed.
+// One dose, from `dose` to its certified result: the valve opens, the strategy decides the cutoff
+// (timed within the jiffy for the model), the scale settles, and the result is certified either
+// dynamically (a fit of the platform's damped ringing) or as industrial indicators do (stable
+// weight). A fault aborts it with the valve closed.
 #include <cstdint>
 
 #include "dynweigh/firmware/dosing_strategy.hpp"
@@ -8,6 +10,7 @@
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
+#include "dynweigh/model/damped_settling_fit.hpp"
 
 namespace dynweigh::firmware {
 
@@ -32,29 +35,45 @@ class DosingCycle {
 
   Phase phase() const { return phase_; }
   ValveCommand valve() const { return valve_; }
-  // Fraction of the coming jiffy after which the close should act (0 = at once).
-  float close_delay_fraction() const { return close_delay_fraction_; }
+  // For the valve module's delay byte: how far into the coming jiffy the command should act.
+  std::uint8_t valve_delay_100us() const { return valve_delay_100us_; }
   float last_prediction_g() const { return last_prediction_g_; }
   const DoseResult& result() const { return result_; }
+  // After a certified twostage fill: its preact corrected by half the error (capped).
+  float adapted_twostage_preact_g() const { return twostage_preact_g_; }
 
  private:
-  bool should_close(float net_weight_g, float filtered_weight_g);
+  bool decide_model(float net_weight_g);
+  bool decide_preact(float filtered_weight_g, float preact_g);
+  bool decide_twostage(float filtered_weight_g);
+  void close_valve(float settle_delay_s);
+  bool certify(float net_weight_g, float filtered_weight_g);
+  bool certify_dynamically() const;
+  void adapt_twostage_preact();
 
   ModelCutoff model_;
   StableWeightDetector stable_;
+  model::DampedSettlingFit<float, 64> settling_fit_;
   float jiffy_s_ = 0.01f;
   float preact_g_ = 0.0f;
+  float twostage_band_g_ = 0.0f;
+  float twostage_preact_g_ = 0.0f;
   float timeout_s_ = 120.0f;
   float settle_limit_s_ = 60.0f;
+  bool subjiffy_ = true;
+  CertifyMode certify_mode_ = CertifyMode::automatic;
 
   Phase phase_ = Phase::idle;
   ValveCommand valve_ = ValveCommand::closed;
+  std::uint8_t valve_delay_100us_ = 0;
   DoseResult result_;
   float start_weight_g_ = 0.0f;
   float last_prediction_g_ = 0.0f;
-  float close_delay_fraction_ = 0.0f;
   std::uint32_t jiffies_ = 0;
   std::uint32_t settle_from_jiffy_ = 0;
+  static constexpr std::uint32_t kAgreementJiffies = 5;
+  float recent_estimates_[kAgreementJiffies] = {};
+  std::uint32_t estimates_ = 0;
 };
 
 }  // namespace dynweigh::firmware

@@ -24,6 +24,10 @@ enum class ParameterId : std::uint8_t {
   dose_timeout_s,
   model_window_ms,
   impact_settle_ms,
+  subjiffy,
+  certify,
+  twostage_band_g,
+  twostage_preact_g,
   count
 };
 
@@ -43,6 +47,9 @@ const ParameterSpec& parameter_spec(ParameterId id);
 // The parameter named `name`, or ParameterId::count.
 ParameterId find_parameter(const char* name);
 
+// How a dose's result is certified: `auto` is dynamic for model and learn, stable for the baselines.
+enum class CertifyMode : std::uint8_t { automatic = 0, stable = 1, dynamic = 2 };
+
 // Display filters selectable by `param filter <name>`.
 enum class FilterKind : std::uint8_t { none = 0, average = 1, iir = 2 };
 
@@ -54,6 +61,7 @@ class Parameters {
   bool set(ParameterId id, float value);
 
   FilterKind filter() const { return static_cast<FilterKind>(static_cast<int>(get(ParameterId::filter))); }
+  CertifyMode certify() const { return static_cast<CertifyMode>(static_cast<int>(get(ParameterId::certify))); }
   const float* raw() const { return values_; }
   float* raw() { return values_; }
 
