@@ -1,13 +1,13 @@
 #include "dynweigh/sim/falling_column.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "dynweigh/model/ideal_model.hpp"
 
 namespace dynweigh::sim {
 
-FallingColumn::FallingColumn(double g, double longest_fall_s, double step_s)
-    : g_(g), ring_(static_cast<std::size_t>(std::ceil(longest_fall_s / step_s)) + 64) {}
+FallingColumn::FallingColumn(double g, std::size_t capacity) : g_(g), ring_(std::max<std::size_t>(capacity, 2)) {}
 
 void FallingColumn::release(double time_s, double mass_kg, double speed_m_s) {
   if (mass_kg <= 0.0) return;
@@ -21,17 +21,29 @@ void FallingColumn::release(double time_s, double mass_kg, double speed_m_s) {
   ++count_;
 }
 
-FallingColumn::Landing FallingColumn::land(double time_s, double fall_height_m) {
+FallingColumn::Landing FallingColumn::land(double step_begin_s, double step_end_s, double fall_height_m) {
+  ++steps_;
   Landing landing;
+  const double dt = step_end_s - step_begin_s;
   while (count_ > 0) {
     const Parcel& parcel = ring_[head_];
-    const double elapsed = time_s - parcel.release_s;
+    const double elapsed = step_end_s - parcel.release_s;
     const double fallen = parcel.speed_m_s * elapsed + 0.5 * g_ * elapsed * elapsed;
     if (fallen < fall_height_m) break;
+    // Landing instant for the present height; if the pile rose past the parcel during an earlier
+    // step, it lands at this step's start with the speed it actually had then.
+    double airborne_s = model::fall_time(parcel.speed_m_s, g_, fall_height_m);
+    airborne_s = std::clamp(airborne_s, step_begin_s - parcel.release_s, elapsed);
+    airborne_s = std::max(airborne_s, 0.0);
+    const double landed_s = parcel.release_s + airborne_s;
     landing.mass_kg += parcel.mass_kg;
-    landing.momentum_n_s += parcel.mass_kg * model::impact_speed(parcel.speed_m_s, g_, fall_height_m);
+    const double momentum = parcel.mass_kg * (parcel.speed_m_s + g_ * airborne_s);
+    const double resting_s = std::clamp(step_end_s - landed_s, 0.0, dt);
+    landing.momentum_n_s += momentum;
+    landing.resting_kg_s += parcel.mass_kg * resting_s;
+    landing.resting_momentum_n_s2 += momentum * resting_s;
     in_flight_kg_ -= parcel.mass_kg;
-    head_ = (head_ + 1) % ring_.size();
+    head_ = head_ + 1 == ring_.size() ? 0 : head_ + 1;
     --count_;
   }
   if (count_ == 0) in_flight_kg_ = 0.0;  // no rounding residue once the column is empty

@@ -1,5 +1,6 @@
 #include "dynweigh/sim/plant.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dynweigh::sim {
@@ -9,27 +10,67 @@ std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream) {
   return seed * 0x9E3779B97F4A7C15ULL + stream;  // one independent stream per component
 }
 
-double longest_fall_s(const Scene& scene) {
-  return std::sqrt(2.0 * scene.column.fall_height_m / scene.g) + 0.1;
+// Parcels the column must hold: one per sub-interval of a step (the step, split at fluctuation
+// knots and valve breakpoints) for the longest fall the scene allows (v0 = 0 onto the floor).
+std::size_t column_capacity(const Scene& scene) {
+  const double longest_fall_s = std::sqrt(2.0 * scene.column.fall_height_m / scene.g) + 0.1;
+  const double steps = std::ceil(longest_fall_s / scene.internal_step_s);
+  const double knot_s = scene.silo.fluctuation_correlation_s / 30.0;
+  const double per_step = 3.0 + (scene.silo.fluctuation_rms > 0.0 ? std::ceil(scene.internal_step_s / knot_s) : 0.0);
+  return static_cast<std::size_t>(std::min(steps * per_step + 64.0, 4e6));
+}
+
+double moving_load_kg(const Scene& scene, double static_kg) {
+  // Hourglass: everything stands on the scale and moves with it, whatever is where.
+  return scene.hourglass.enabled ? scene.hourglass.silo_tare_kg + scene.silo.fill_kg : static_kg;
 }
 
 }  // namespace
 
 Plant::Plant(const Scene& scene, std::uint64_t seed)
     : scene_(scene),
-      pile_{scene.column.container_diameter_m, scene.column.repose_angle_deg * M_PI / 180.0,
-            scene.silo.bulk_density},
+      components_(components_of(scene)),
+      dt_(scene.internal_step_s),
+      reference_weight_n_((scene.platform.container_kg + moving_load_kg(scene, 0.0)) * scene.g),
       valve_(scene.valve, stream_seed(seed, 1)),
       silo_(scene.silo, scene.g, stream_seed(seed, 2)),
-      column_(scene.g, longest_fall_s(scene), scene.internal_step_s),
-      impact_(scene.impact.relaxation_s),
-      platform_(scene.platform, scene.g),
-      load_cell_(scene.load_cell, scene.g, stream_seed(seed, 3)) {
-  truth_.fall_height_m = current_fall_height_m();
+      column_(scene.g, column_capacity(scene)),
+      load_cell_(scene.load_cell, scene.g, stream_seed(seed, 3),
+                 components_.has(Component::creep) ? &scene.creep : nullptr),
+      rigid_support_force_n_(reference_weight_n_) {
+  if (components_.has(Component::pile)) {
+    pile_.emplace(scene.column, components_.has(Component::pile_top) ? &scene.pile_top : nullptr,
+                  scene.silo.bulk_density);
+  }
+  if (components_.has(Component::impact_relaxation)) impact_.emplace(scene.impact.relaxation_s);
+  if (components_.has(Component::avalanche)) avalanches_.emplace(scene.avalanche);
+  if (components_.has(Component::platform)) {
+    platform_.emplace(scene.platform, scene.g);
+    // Start at rest under what stands on it (the empty container, or the whole hourglass).
+    platform_->rest_under(reference_weight_n_);
+  }
+  truth_.silo_kg = silo_.remaining_kg();
+  truth_.fall_height_m = fall_height_m();
+  truth_.force_n = support_force_n() - reference_weight_n_;
 }
 
-double Plant::empty_counts() const {
-  return load_cell_.ideal_counts(scene_.platform.container_kg * scene_.g);
+double Plant::empty_counts() const { return load_cell_.ideal_counts(reference_weight_n_); }
+
+std::uint64_t Plant::component_steps(Component component) const {
+  switch (component) {
+    case Component::silo: return silo_.steps();
+    case Component::valve: return valve_.steps();
+    case Component::column: return column_.steps();
+    case Component::pile: return pile_ ? pile_->steps() : 0;
+    case Component::pile_top: return pile_ && components_.has(Component::pile_top) ? pile_->dent_steps() : 0;
+    case Component::impact_relaxation: return impact_ ? impact_->steps() : 0;
+    case Component::avalanche: return avalanches_ ? avalanches_->steps() : 0;
+    case Component::platform: return platform_ ? platform_->steps() : 0;
+    case Component::load_cell: return load_cell_.conversions();
+    case Component::creep: return load_cell_.creep_steps();
+    case Component::hourglass: return components_.has(Component::hourglass) ? steps_ : 0;
+  }
+  return 0;
 }
 
 void Plant::command_valve(ValveCommand command, double delay_s) {
@@ -38,44 +79,87 @@ void Plant::command_valve(ValveCommand command, double delay_s) {
   valve_.command(command, truth_.time_s + delay_s);
 }
 
-double Plant::current_fall_height_m() const {
-  if (!scene_.column.pile_grows) return scene_.column.fall_height_m;
-  return model::fall_height_to_pile_m(pile_, scene_.column.fall_height_m, truth_.static_kg);
+double Plant::fall_height_m() {
+  return pile_ ? pile_->fall_height_m(truth_.static_kg) : scene_.column.fall_height_m;
 }
 
 void Plant::advance(double seconds) {
-  const double dt = scene_.internal_step_s;
-  const auto count = static_cast<std::uint64_t>(std::llround(seconds / dt));
-  for (std::uint64_t i = 0; i < count; ++i) step(dt);
+  const auto count = static_cast<std::int64_t>(std::llround(seconds / dt_));
+  for (std::int64_t i = 0; i < count; ++i) step();
 }
 
-void Plant::step(double dt) {
+void Plant::step() {
+  const double dt = dt_;
   const double begin = double(steps_) * dt;
   const double end = double(steps_ + 1) * dt;
-  // The stroke is piecewise linear: integrate the outflow between its breakpoints.
+  const double silo_before_kg = silo_.remaining_kg();
+  double released_weighted_kg_s = 0.0;  // sum of mass times its time off the silo in this step
+  double release_momentum_n_s = 0.0;
+  // The stroke is piecewise linear and the fluctuation linear between knots: integrate the
+  // outflow between their breakpoints; each piece leaves as one parcel at its middle.
   for (double a = begin; a < end;) {
-    double b = valve_.next_breakpoint_s(end);
-    if (b <= a) b = end;
+    double b = silo_.next_breakpoint_s(a, valve_.next_breakpoint_s(end));
+    // A breakpoint within rounding of the step's end (a knot on the step grid) is the end.
+    if (b <= a || end - b < 1e-9 * dt) b = end;
     const double stroke_a = valve_.stroke();
     valve_.advance_to(b);
-    const Silo::Outflow out = silo_.discharge(stroke_a, valve_.stroke(), b - a);
-    column_.release(0.5 * (a + b), out.mass_kg, out.speed_m_s);
-    truth_.released_kg += out.mass_kg;
+    // An instant gate holds its stroke over the piece and jumps at its end.
+    const double stroke_b = valve_.instant() ? stroke_a : valve_.stroke();
+    const Silo::Outflow out = silo_.discharge(a, stroke_a, stroke_b, b - a);
+    if (out.mass_kg > 0.0) {
+      const double release_s = 0.5 * (a + b);
+      column_.release(release_s, out.mass_kg, out.speed_m_s);
+      truth_.released_kg += out.mass_kg;
+      released_weighted_kg_s += out.mass_kg * (end - release_s);
+      release_momentum_n_s += out.mass_kg * out.speed_m_s;
+    }
     a = b;
   }
-  const double fall = current_fall_height_m();
-  const FallingColumn::Landing landing = column_.land(end, fall);
+
+  const double fall = fall_height_m();
+  const FallingColumn::Landing landing = column_.land(begin, end, fall);
+  const double static_before_kg = truth_.static_kg;
   truth_.static_kg += landing.mass_kg;
-  truth_.impact_force_n = impact_.force_over_step(landing.momentum_n_s, dt);
-  const double container = platform_.container_kg();
-  platform_.step((container + truth_.static_kg) * scene_.g + truth_.impact_force_n, truth_.static_kg, dt);
+  const double mean_static_kg = static_before_kg + landing.resting_kg_s / dt;
+
+  double impact = impact_ ? impact_->force_over_step(landing.momentum_n_s, dt, landing.resting_momentum_n_s2) : landing.momentum_n_s / dt;
+  if (avalanches_) impact += avalanches_->step(landing.mass_kg, pile_->slope_fraction(truth_.static_kg), begin, end);
+  if (pile_ && components_.has(Component::pile_top)) {
+    const double full_rate = silo_.full_open_rate_kg_s();
+    pile_->update_dent(full_rate > 0.0 ? landing.mass_kg / (dt * full_rate) : 0.0, dt);
+  }
+
+  // Mean force over the step on what the load cell carries.
+  double external_n = (scene_.platform.container_kg + mean_static_kg) * scene_.g + impact;
+  if (components_.has(Component::hourglass)) {
+    // The silo stands on the scale too: its content weighs until it leaves, and the bed pushes
+    // each parcel to v0 on the way out (the reaction lightens the silo by mdot v0).
+    const double mean_silo_kg = silo_before_kg - released_weighted_kg_s / dt;
+    external_n += (scene_.hourglass.silo_tare_kg + mean_silo_kg) * scene_.g - release_momentum_n_s / dt;
+  }
+  double support_impulse_n_s = external_n * dt;
+  if (platform_) {
+    platform_->step(external_n, moving_load_kg(scene_, truth_.static_kg), dt);
+    support_impulse_n_s = platform_->last_support_impulse_n_s();
+  } else {
+    // A rigid scale reads the force of the instant the step ends: the weights as they are then
+    // (not their mean over the step, half a step of ramp behind), the fluxes at their step mean.
+    rigid_support_force_n_ = external_n + (truth_.static_kg - mean_static_kg) * scene_.g;
+    if (components_.has(Component::hourglass)) {
+      rigid_support_force_n_ += (silo_.remaining_kg() - (silo_before_kg - released_weighted_kg_s / dt)) * scene_.g;
+    }
+  }
 
   ++steps_;
   truth_.time_s = end;
   truth_.in_flight_kg = column_.in_flight_kg();
-  truth_.force_n = platform_.support_force_n() - container * scene_.g;
+  truth_.silo_kg = silo_.remaining_kg();
+  truth_.force_n = support_force_n() - reference_weight_n_;
+  truth_.force_impulse_n_s += support_impulse_n_s - reference_weight_n_ * dt;
+  truth_.impact_force_n = impact;
   truth_.stroke = valve_.stroke();
   truth_.fall_height_m = fall;
+  if (avalanches_) truth_.avalanches = avalanches_->avalanches();
 }
 
 }  // namespace dynweigh::sim

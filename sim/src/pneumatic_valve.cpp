@@ -56,6 +56,7 @@ void PneumaticValve::start_due_commands() {
 
 void PneumaticValve::advance_to(double time_s) {
   // Callers step between breakpoints, so the slope is constant over [now, time].
+  ++steps_;
   const double elapsed = time_s - now_s_;
   if (stroke_ != target_ && parameters_.full_stroke_s > 0.0 && elapsed > 0.0) {
     const double travel = elapsed / parameters_.full_stroke_s;

@@ -6,11 +6,23 @@
 #ifdef DYNWEIGH_HAS_SIM
 #include "sim_commands.hpp"
 #endif
+#ifdef DYNWEIGH_HAS_BENCH
+#include "bench_commands.hpp"
+#endif
 #ifdef DYNWEIGH_HAS_GRANULAR
 #include "granular_commands.hpp"
 #endif
 #ifdef DYNWEIGH_HAS_PLANT
 #include "plant_commands.hpp"
+#endif
+#ifdef DYNWEIGH_HAS_REPLAY
+#include "replay_commands.hpp"
+#endif
+#ifdef DYNWEIGH_HAS_TERM
+#include "term_commands.hpp"
+#endif
+#ifdef DYNWEIGH_HAS_VIEW
+#include "view_commands.hpp"
 #endif
 
 namespace {
@@ -24,9 +36,13 @@ struct Subcommand {
 };
 
 constexpr Subcommand kSubcommands[] = {
-    {"plot", "draw a cycle CSV (dynweigh-fw --csv) as PNG or SVG with gnuplot", run_plot_command},
+    {"plot", "draw a cycle, replay or bench CSV as PNG or SVG with gnuplot", run_plot_command},
 #ifdef DYNWEIGH_HAS_SIM
     {"sim", "run a scene open-loop with a valve schedule, write the cycle CSV", run_sim_command},
+#endif
+#ifdef DYNWEIGH_HAS_BENCH
+    {"bench", "strategies x scenes x targets: run time against error (--step: Indicator::step, --sim: plant)",
+     run_bench_command},
 #endif
 #ifdef DYNWEIGH_HAS_GRANULAR
     {"soc", "SOC sandpile (BTW): statistics and the avalanche force", run_soc_command},
@@ -35,6 +51,15 @@ constexpr Subcommand kSubcommands[] = {
 #endif
 #ifdef DYNWEIGH_HAS_PLANT
     {"plant", "the simulator as the load-cell and valve modules on a CAN transport", run_plant_command},
+#endif
+#ifdef DYNWEIGH_HAS_REPLAY
+    {"replay", "recorded samples or inputs through the firmware's own step: what it decided", run_replay_command},
+#endif
+#ifdef DYNWEIGH_HAS_TERM
+    {"term", "talk to a console on a serial device or pty; capture readtestdata as CSV", run_term_command},
+#endif
+#ifdef DYNWEIGH_HAS_VIEW
+    {"view", "live window: silo, stream, pile and force trace while a scene runs", run_view_command},
 #endif
 };
 

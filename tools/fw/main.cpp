@@ -9,10 +9,12 @@
 
 #include "dynweigh/hal/host/file_settings_store.hpp"
 #include "dynweigh/hal/host/host_clock.hpp"
+#include "dynweigh/hal/host/inputs_recording.hpp"
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "can_plant_loop.hpp"
 #include "trace_csv.hpp"
 
 namespace {
@@ -26,12 +28,10 @@ struct Options {
   std::uint64_t seed = 1;
   std::string csv;
   std::string nvm;
+  std::string record;  // every jiffy's Inputs, for dynweigh replay
 };
 
 sim::Scene scene_from_plant_option(const std::string& plant) {
-  if (plant.rfind("can:", 0) == 0) {
-    throw std::runtime_error("--plant can:... needs the Linux CAN build, which this binary is not");
-  }
   if (plant != "sim" && plant.rfind("sim:", 0) != 0) {
     throw std::runtime_error("--plant must be sim[:<scene>] or can:<transport>, not '" + plant + "'");
   }
@@ -42,6 +42,9 @@ sim::Scene scene_from_plant_option(const std::string& plant) {
 }
 
 int run(const Options& options) {
+  if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
+    return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm});
+  }
   const sim::Scene scene = scene_from_plant_option(options.plant);
   std::unique_ptr<hal::host::FileSettingsStore> store;
   std::optional<firmware::PersistentSettings> stored;
@@ -53,6 +56,13 @@ int run(const Options& options) {
   hal::host::LockstepSession session(scene, options.seed, stored, store.get());
   if (store && !stored) store->save(session.indicator().settings());
   std::unique_ptr<tools::TraceCsv> csv;
+  // --record: the same step, with every jiffy's Inputs and Outputs written for dynweigh replay.
+  std::unique_ptr<hal::host::LockstepRecorder> recorder;
+  if (!options.record.empty()) {
+    recorder = std::make_unique<hal::host::LockstepRecorder>(
+        options.record, session, "dynweigh-fw --plant " + options.plant + " --seed " + std::to_string(options.seed));
+  }
+  const auto step = [&](hal::ConsolePort& port) { return recorder ? recorder->step(port) : session.step(port); };
   if (!options.csv.empty()) csv = std::make_unique<tools::TraceCsv>(options.csv);
   hal::host::HostClock clock(options.realtime);
 
@@ -63,7 +73,7 @@ int run(const Options& options) {
     for (bool busy = false;;) {
       // Idle and silent: follow the wall clock; busy: run ahead (lockstep) unless --realtime.
       if (!busy && !options.realtime) console.wait_for_input(10);
-      busy = session.step(console).busy;
+      busy = step(console).busy;
       if (csv) csv->write(session.last_row());
       clock.wait_next_jiffy();
     }
@@ -76,7 +86,7 @@ int run(const Options& options) {
         std::fflush(stdout);
       });
   for (;;) {
-    const firmware::Outputs outputs = session.step(console);
+    const firmware::Outputs outputs = step(console);
     if (csv) csv->write(session.last_row());
     console.set_indicator_busy(outputs.busy);
     if (console.input_ended() && !outputs.busy) return 0;
@@ -100,12 +110,17 @@ int main(int argc, char** argv) {
   app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
   app.add_option("--csv", options.csv, "write one row per jiffy: plant truth beside the firmware's view");
   app.add_option("--nvm", options.nvm, "keep calibration and parameters in this file");
+  app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());
+    return 2;
+  }
+  if (!options.record.empty() && options.plant.rfind("can:", 0) == 0) {
+    std::fprintf(stderr, "dynweigh-fw: --record works with --plant sim only\n");
     return 2;
   }
   try {

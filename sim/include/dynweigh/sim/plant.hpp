@@ -1,12 +1,22 @@
 #pragma once
-// The plant of the default scene: silo -> valve -> falling column -> pile -> impact -> platform ->
-// load cell, stepped at the scene's internal rate under the indicator's 10 ms jiffy.
+// The plant: silo -> valve -> falling column -> pile -> impact -> platform -> load cell, plus the
+// pile top, avalanches, creep and the hourglass configuration where a scene asks for them. Only
+// the components the scene runs (components_of) are built and stepped. Stepped at the scene's
+// internal rate under the indicator's 10 ms jiffy; the step loop does not allocate.
+//
+// Every force the platform receives is the exact mean over the step of a piecewise model:
+// parcels leave the silo at their release instant and land at their exact landing instant,
+// momentum arrives with the landing speed consistent with the time in the air. So mass is
+// conserved at every step and the hourglass' impulse balance holds to rounding.
 #include <cstdint>
+#include <optional>
 
-#include "dynweigh/model/pile_geometry.hpp"
+#include "dynweigh/sim/components.hpp"
 #include "dynweigh/sim/falling_column.hpp"
 #include "dynweigh/sim/impact_relaxation.hpp"
 #include "dynweigh/sim/load_cell.hpp"
+#include "dynweigh/sim/pile.hpp"
+#include "dynweigh/sim/pile_avalanches.hpp"
 #include "dynweigh/sim/pneumatic_valve.hpp"
 #include "dynweigh/sim/scale_platform.hpp"
 #include "dynweigh/sim/scene.hpp"
@@ -20,10 +30,14 @@ struct PlantTruth {
   double released_kg = 0.0;
   double static_kg = 0.0;       // landed and at rest on the scale
   double in_flight_kg = 0.0;
-  double force_n = 0.0;         // load-cell force above the empty container's weight
-  double impact_force_n = 0.0;
+  double force_n = 0.0;         // load-cell force above the empty container's weight (hourglass:
+                                // above the loaded rest weight of silo, fill and container)
+  double impact_force_n = 0.0;  // mean over the last step, avalanches included
   double stroke = 0.0;
   double fall_height_m = 0.0;   // orifice to the present pile top
+  double silo_kg = 0.0;         // still in the silo
+  double force_impulse_n_s = 0.0;  // exact time integral of force_n since the start
+  std::uint64_t avalanches = 0;
 };
 
 class Plant {
@@ -33,29 +47,42 @@ class Plant {
   // A command reaches the valve `delay_s` after the present instant; repeats are ignored.
   void command_valve(ValveCommand command, double delay_s = 0.0);
   void advance(double seconds);
-  LoadCellSample sample() { return load_cell_.convert(platform_.support_force_n()); }
+  LoadCellSample sample() { return load_cell_.convert(support_force_n(), truth_.time_s); }
 
   const PlantTruth& truth() const { return truth_; }
   ValveFeedback valve_feedback() const { return valve_.feedback(); }
   const Scene& scene() const { return scene_; }
 
-  // Factory calibration of an indicator to this plant: counts of the empty container, and gain.
+  // Factory calibration of an indicator to this plant: counts of the empty container (hourglass:
+  // of the loaded rest weight), and gain.
   double empty_counts() const;
   double counts_per_gram() const { return load_cell_.counts_per_gram(); }
   double full_open_rate_kg_s() const { return silo_.full_open_rate_kg_s(); }
 
+  // What the plant runs, and how often each component has been stepped (for "only what a scene
+  // needs": a component not built is never stepped).
+  const ComponentSet& components() const { return components_; }
+  std::uint64_t component_steps(Component component) const;
+  std::uint64_t steps() const { return steps_; }
+
  private:
-  void step(double dt);
-  double current_fall_height_m() const;
+  void step();
+  double fall_height_m();
+  double support_force_n() const { return platform_ ? platform_->support_force_n() : rigid_support_force_n_; }
 
   Scene scene_;
-  model::PileGeometry<double> pile_;
+  ComponentSet components_;
+  double dt_;
+  double reference_weight_n_;  // what force_n is measured from
   PneumaticValve valve_;
   Silo silo_;
   FallingColumn column_;
-  ImpactRelaxation impact_;
-  ScalePlatform platform_;
+  std::optional<Pile> pile_;
+  std::optional<ImpactRelaxation> impact_;
+  std::optional<PileAvalanches> avalanches_;
+  std::optional<ScalePlatform> platform_;
   LoadCell load_cell_;
+  double rigid_support_force_n_;
   ValveCommand last_command_ = ValveCommand::closed;
   std::uint64_t steps_ = 0;
   PlantTruth truth_;

@@ -4,6 +4,7 @@
 // exposed so the silo can integrate the flow exactly between them.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include "dynweigh/sim/random.hpp"
 #include "dynweigh/sim/scene.hpp"
@@ -25,6 +26,9 @@ class PneumaticValve {
   // The earliest time after now at which the stroke's slope changes (or `limit_s`).
   double next_breakpoint_s(double limit_s) const;
   void advance_to(double time_s);
+  std::uint64_t steps() const { return steps_; }
+  // No stroke time: the gate jumps at a breakpoint instead of moving linearly up to it.
+  bool instant() const { return parameters_.full_stroke_s <= 0.0; }
 
  private:
   struct Pending {
@@ -41,6 +45,7 @@ class PneumaticValve {
   static constexpr std::size_t kQueue = 8;
   std::array<Pending, kQueue> pending_{};
   std::size_t pending_count_ = 0;
+  std::uint64_t steps_ = 0;
 };
 
 }  // namespace dynweigh::sim

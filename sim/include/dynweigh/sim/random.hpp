@@ -28,9 +28,18 @@ class Random {
   // Uniform in (0, 1): never 0, so log() below is finite.
   double uniform() { return (double(next_u64() >> 11) + 0.5) * 0x1.0p-53; }
 
-  double gaussian() {  // Box-Muller; the second value is dropped to keep the stream simple
+  // Box-Muller; both values of a pair are used (the second is kept for the next call), which
+  // halves the log/sqrt/sin/cos per value. The sequence is still a pure function of the seed.
+  double gaussian() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
     const double radius = std::sqrt(-2.0 * std::log(uniform()));
-    return radius * std::cos(2.0 * M_PI * uniform());
+    const double angle = 2.0 * M_PI * uniform();
+    spare_ = radius * std::sin(angle);
+    has_spare_ = true;
+    return radius * std::cos(angle);
   }
 
  private:
@@ -43,6 +52,8 @@ class Random {
   static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
   std::uint64_t state_[4];
+  double spare_ = 0.0;
+  bool has_spare_ = false;
 };
 
 }  // namespace dynweigh::sim

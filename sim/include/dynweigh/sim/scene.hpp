@@ -1,6 +1,7 @@
 #pragma once
 // A scene: the parameters of every component and which effects are switched on. The defaults are
 // the thesis' real setup (shared/seed §2.2, table 2.2) with the disturbances fixed by SPEC §2.
+// Scenes other than the two built in here live as JSON files in scenes/ (scene_file.hpp).
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,8 +34,27 @@ struct ColumnParameters {
   bool pile_grows = true;                // false: constant h (ideal model)
 };
 
+// The top the stream makes (thesis §2.3.1, fig. 2.4): flattened to a plateau the width of the
+// stream's footprint, and dented under the stream while it lands. Changes h only, never mass.
+struct PileTopParameters {
+  bool enabled = false;
+  double flat_radius_m = 0.030;          // plateau radius: about half the 60 mm stream
+  double dent_depth_m = 0.010;           // crater depth under the full-open stream
+  double dent_settle_s = 0.20;           // time the crater takes to form or fill
+};
+
 struct ImpactParameters {
   double relaxation_s = 0.010;           // dispersion of landing grains (thesis §1.3, §2.3)
+};
+
+// Thesis example 3.2: when the mass added at the top since the last avalanche exceeds a critical
+// mass, an avalanche runs for a duration that grows with the slope length (§3.2). The material
+// slides down and stops: the scale feels a dip of -F_a then a push of +F_a, so no net impulse.
+struct AvalancheParameters {
+  bool enabled = false;
+  double critical_kg = 0.050;
+  double force_n = 0.5;                  // F_a, the avalanche force factor
+  double duration_s = 0.040;             // on a slope spanning the whole container
 };
 
 struct PlatformParameters {
@@ -52,21 +72,47 @@ struct LoadCellParameters {
   double overload_fraction = 1.1;        // saturates above 110 % of capacity
 };
 
+// Load-cell creep: under a constant load the output drifts by `fraction` of the load with a
+// first-order time constant. OIML R60 class C3 allows 0.7 x 0.0245 % over 30 min; this default
+// sits at that limit.
+struct CreepParameters {
+  bool enabled = false;
+  double fraction = 0.00017;
+  double time_constant_s = 600.0;
+};
+
+// Thesis fig. 2.2b: silo and container both stand on the scale, so the mass on it never changes
+// and only the dynamic effects show. The reading is taken relative to the loaded rest weight.
+struct HourglassParameters {
+  bool enabled = false;
+  double silo_tare_kg = 10.0;            // the empty silo, its frame and the extra plate
+};
+
 struct Scene {
   std::string name = "default";
+  std::string source = "thesis table 2.2 (real setup), disturbances SPEC section 2";
   double g = 9.81;
   double internal_step_s = 0.001;        // plant steps per 10 ms jiffy: 10
   SiloParameters silo;
   ValveParameters valve;
   ColumnParameters column;
+  PileTopParameters pile_top;
   ImpactParameters impact;
+  AvalancheParameters avalanche;
   PlatformParameters platform;
   LoadCellParameters load_cell;
+  CreepParameters creep;
+  HourglassParameters hourglass;
 };
 
 Scene default_scene();
 Scene ideal_scene();  // thesis chapter 1: instant valve, constant h, rigid scale, no noise
+
+// A built-in name, a file scenes/<name>.json, or a path ending in .json. A file overrides the
+// built-in of the same name. Returns nullopt for an unknown name; throws std::runtime_error
+// naming the field when a scene file is malformed.
 std::optional<Scene> scene_by_name(const std::string& name);
+// Built-in names and the scene files found, sorted, each once.
 std::vector<std::string> scene_names();
 
 }  // namespace dynweigh::sim

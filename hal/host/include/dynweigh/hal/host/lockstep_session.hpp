@@ -21,6 +21,7 @@ struct TraceRow {
   std::int32_t raw = 0;
   double filtered_g = 0.0;
   int valve = 0;
+  bool has_filtered = true;  // false: no firmware ran, the filtered_g column is left empty
 };
 
 inline constexpr const char* kTraceHeader = "t_s,jiffy,static_kg,in_flight_kg,force_n,raw,filtered_g,valve";

@@ -1,0 +1,141 @@
+// The Cortex-M4F image: the same firmware library as the host, on a board with a console UART and a
+// plant link carrying the CAN frames of SPEC §4 as SLCAN lines. One jiffy per 0x190 sample (the
+// load-cell module paces the loop, lockstep or real time alike); SysTick counts 10 ms for the
+// heartbeat and, on boards with `kSampleTimeoutTicks`, for a jiffy without a sample.
+//
+// Per-jiffy instruction budget: Indicator::step runs between dw_step_begin() and one of
+// dw_step_end_idle() / dw_step_end_active(); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
+// counts the instructions between them.
+#include <cstdint>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/can/protocol.hpp"
+#include "dynweigh/hal/can/slcan.hpp"
+#include "dynweigh/hal/cortexm/board_mps2_an386.hpp"
+#include "dynweigh/hal/cortexm/cmsdk_uart.hpp"
+
+using Board = dynweigh::hal::cortexm::BoardMps2An386;
+
+namespace fw = dynweigh::firmware;
+namespace can = dynweigh::hal::can;
+using dynweigh::hal::cortexm::ByteRing;
+using dynweigh::hal::cortexm::CmsdkUart;
+
+extern "C" {
+// Markers for the instruction-counting plugin; noipa keeps them out of line and unmerged.
+__attribute__((noipa)) void dw_step_begin() { asm volatile("" ::: "memory"); }
+__attribute__((noipa)) void dw_step_end_idle() { asm volatile("nop" ::: "memory"); }
+__attribute__((noipa)) void dw_step_end_active() { asm volatile("nop\n nop" ::: "memory"); }
+}
+
+namespace {
+
+volatile std::uint32_t g_ticks = 0;  // SysTick, 10 ms each
+
+volatile std::uint32_t& reg(std::uintptr_t address) { return *reinterpret_cast<volatile std::uint32_t*>(address); }
+
+void start_systick() {
+  reg(0xE000E014) = Board::kSysTickReload;  // SYST_RVR
+  reg(0xE000E018) = 0;                      // SYST_CVR
+  reg(0xE000E010) = 0x7;                    // SYST_CSR: processor clock, interrupt, enable
+}
+
+fw::Indicator g_indicator(Board::factory_settings());
+ByteRing<2048> g_console_tx;
+ByteRing<256> g_console_rx;
+ByteRing<512> g_plant_tx;
+
+void send_frame(const can::CanFrame& frame) {
+  char line[can::kSlcanMaxLine];
+  const std::size_t n = can::slcan_encode(frame, line, sizeof line);
+  if (g_plant_tx.free_space() < n) return;  // the link is saturated: drop whole frames only
+  for (std::size_t i = 0; i < n; ++i) g_plant_tx.push(line[i]);
+}
+
+struct JiffyState {
+  std::uint32_t jiffy = 0;
+  fw::ValvePosition valve_position = fw::ValvePosition::closed;
+};
+
+void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample) {
+  char rx[128];
+  std::size_t rx_length = 0;
+  while (rx_length < sizeof rx && g_console_rx.pop(rx[rx_length])) ++rx_length;
+  fw::Inputs inputs;
+  inputs.jiffy = state.jiffy;
+  inputs.load_cell = sample;
+  inputs.valve_position = state.valve_position;
+  inputs.console_rx = rx;
+  inputs.console_rx_length = rx_length;
+
+  dw_step_begin();
+  const fw::Outputs out = g_indicator.step(inputs);
+  if (out.state == fw::IndicatorState::idle) {
+    dw_step_end_idle();
+  } else {
+    dw_step_end_active();
+  }
+
+  send_frame(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(out.valve), out.valve_delay_100us,
+                                                  out.answered_counter}));
+  send_frame(can::encode(can::IndicatorStatusMessage{out.weight_100mg, static_cast<std::uint8_t>(out.state),
+                                                     static_cast<std::uint8_t>(out.valve), out.answered_counter}));
+  // The console drains at the UART's pace: take from the indicator only what the ring can hold.
+  char tx[256];
+  for (std::size_t n; g_console_tx.free_space() > 0 &&
+                      (n = g_indicator.drain_console(tx, g_console_tx.free_space() < sizeof tx ? g_console_tx.free_space()
+                                                                                                : sizeof tx)) > 0;) {
+    for (std::size_t i = 0; i < n; ++i) g_console_tx.push(tx[i]);
+  }
+  ++state.jiffy;
+}
+
+}  // namespace
+
+extern "C" void SysTick_Handler() { g_ticks = g_ticks + 1; }
+
+extern "C" int board_main() {
+  const CmsdkUart console(Board::kConsoleUart, Board::kCpuHz, Board::kBaud);
+  const CmsdkUart plant(Board::kPlantUart, Board::kCpuHz, Board::kBaud);
+  start_systick();
+
+  const char* banner = "dynweigh " ;
+  for (const char* p = banner; *p; ++p) g_console_tx.push(*p);
+  for (const char* p = fw::kFirmwareVersion; *p; ++p) g_console_tx.push(*p);
+  for (const char* p = " on "; *p; ++p) g_console_tx.push(*p);
+  for (const char* p = Board::kName; *p; ++p) g_console_tx.push(*p);
+  g_console_tx.push('\n');
+  send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtBootUp}));
+
+  can::SlcanDecoder decoder;
+  JiffyState state;
+  std::uint32_t heartbeat_tick = 0;
+  for (;;) {
+    while (console.rx_ready() && g_console_rx.free_space() > 0) g_console_rx.push(console.read());
+    while (plant.rx_ready()) {
+      can::CanFrame frame;
+      if (!decoder.push(plant.read(), frame)) continue;
+      switch (can::classify(frame)) {
+        case can::MessageKind::load_cell_sample: {
+          can::LoadCellSampleMessage m;
+          if (can::decode(frame, m)) run_jiffy(state, fw::LoadCellInput{m.raw_counts, m.counter, m.status, true});
+          break;
+        }
+        case can::MessageKind::valve_feedback: {
+          can::ValveFeedbackMessage m;
+          if (can::decode(frame, m)) state.valve_position = static_cast<fw::ValvePosition>(m.position);
+          break;
+        }
+        default:
+          break;
+      }
+      plant.pump(g_plant_tx);
+    }
+    if (g_ticks - heartbeat_tick >= 10) {  // CiA 301 heartbeat every 100 ms
+      heartbeat_tick = g_ticks;
+      send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtOperational}));
+    }
+    plant.pump(g_plant_tx);
+    console.pump(g_console_tx);
+  }
+}

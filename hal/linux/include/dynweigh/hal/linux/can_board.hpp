@@ -1,0 +1,89 @@
+#pragma once
+// The Linux CAN board (SPEC §4): the indicator runs one jiffy per 0x190 load-cell sample and
+// answers each with exactly one 0x220 valve command carrying the sample's counter, then its 0x181
+// status; a 0x700+1 heartbeat goes out every 10 jiffies and whenever the link is quiet for 100 ms.
+// Lockstep (a plant that waits for the answer) and real time (modules sending every 10 ms) are the
+// same loop; in real time a timerfd also runs a jiffy with `fresh = false` when a sample is more
+// than 25 ms late, so a dead load-cell module becomes a fault instead of a frozen indicator.
+#include <cstdint>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/linux/can_transport.hpp"
+#include "dynweigh/hal/ports.hpp"
+
+namespace dynweigh::hal::linux_can {
+
+// The load cell as the last 0x190 frame: fresh once, then stale until the next one.
+class CanLoadCell final : public LoadCellPort {
+ public:
+  void deliver(const firmware::LoadCellInput& sample) {
+    sample_ = sample;
+    sample_.fresh = true;
+  }
+  firmware::LoadCellInput read_sample() override {
+    firmware::LoadCellInput out = sample_;
+    sample_.fresh = false;
+    return out;
+  }
+
+ private:
+  firmware::LoadCellInput sample_{0, 0, 0, false};
+};
+
+// The valve as 0x220 out (sent by the board, with the answered counter) and 0x1A0 in.
+class CanValve final : public ValvePort {
+ public:
+  void command(firmware::ValveCommand command, std::uint8_t delay_100us) override {
+    command_ = command;
+    delay_100us_ = delay_100us;
+  }
+  firmware::ValvePosition position() const override { return position_; }
+  void deliver_position(firmware::ValvePosition position) { position_ = position; }
+  firmware::ValveCommand last_command() const { return command_; }
+  std::uint8_t last_delay_100us() const { return delay_100us_; }
+
+ private:
+  firmware::ValveCommand command_ = firmware::ValveCommand::closed;
+  std::uint8_t delay_100us_ = 0;
+  firmware::ValvePosition position_ = firmware::ValvePosition::closed;
+};
+
+class CanBoard {
+ public:
+  // plant_stopped: the load-cell module's heartbeat said NMT stopped (dynweigh plant is leaving).
+  enum class Event { jiffy, stale_jiffy, quiet, closed, plant_stopped };
+
+  CanBoard(CanTransport& transport, firmware::Indicator& indicator, ConsolePort& console,
+           SettingsStore* store = nullptr, bool realtime = false);
+  ~CanBoard();
+  CanBoard(const CanBoard&) = delete;
+  CanBoard& operator=(const CanBoard&) = delete;
+
+  // Waits up to `timeout_ms` for the next sample and runs one jiffy on it. `quiet`: nothing came
+  // (a heartbeat has gone out); `closed`: the link ended.
+  Event poll(int timeout_ms);
+  void send_heartbeat(std::uint8_t nmt_state);
+
+  std::uint32_t jiffy() const { return jiffy_; }
+  const firmware::Outputs& last_outputs() const { return outputs_; }
+  std::uint32_t frames_ignored() const { return ignored_; }
+  std::int32_t last_raw_counts() const { return last_raw_; }
+
+ private:
+  void run_jiffy();
+  void arm_stale_timer(int first_ms);
+
+  CanTransport& transport_;
+  firmware::Indicator& indicator_;
+  ConsolePort& console_;
+  SettingsStore* store_;
+  CanLoadCell load_cell_;
+  CanValve valve_;
+  int timer_fd_ = -1;
+  std::uint32_t jiffy_ = 0;
+  std::uint32_t ignored_ = 0;
+  std::int32_t last_raw_ = 0;
+  firmware::Outputs outputs_{};
+};
+
+}  // namespace dynweigh::hal::linux_can

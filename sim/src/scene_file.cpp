@@ -1,0 +1,195 @@
+#include "dynweigh/sim/scene_file.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "dynweigh/model/beverloo.hpp"
+#include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/ideal_model.hpp"
+#include "dynweigh/sim/components.hpp"
+#include "scene_fields.hpp"
+
+namespace dynweigh::sim {
+namespace {
+
+using nlohmann::json;
+
+std::string format_number(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.10g", value);
+  return text;
+}
+
+[[noreturn]] void reject(const std::string& origin, const std::string& field, const std::string& why) {
+  throw std::runtime_error(origin + ": " + field + ": " + why);
+}
+
+std::string dotted(const char* section, const char* key) {
+  return *section ? std::string(section) + "." + key : std::string(key);
+}
+
+void check_range(const std::string& origin, const std::string& field, double value, const detail::FieldRange& r) {
+  if (!std::isfinite(value)) reject(origin, field, "must be a finite number");
+  const bool below = r.low_open ? value <= r.low : value < r.low;
+  if (below || value > r.high) {
+    reject(origin, field, std::string("must be ") + (r.low_open ? "> " : ">= ") + format_number(r.low) +
+                              " and <= " + format_number(r.high) + " (got " + format_number(value) + ")");
+  }
+}
+
+// Component names a file may list; the always-present ones are accepted for readability.
+Component component_from_name(const std::string& origin, const std::string& name) {
+  for (std::size_t i = 0; i < kComponentCount; ++i) {
+    const auto c = static_cast<Component>(i);
+    if (name == component_name(c)) return c;
+  }
+  reject(origin, "components", "unknown component '" + name + "'");
+}
+
+void apply_components(const json& list, Scene& scene, const std::string& origin) {
+  if (!list.is_array()) reject(origin, "components", "must be an array of component names");
+  ComponentSet wanted;
+  for (const json& item : list) {
+    if (!item.is_string()) reject(origin, "components", "must be an array of component names");
+    wanted.add(component_from_name(origin, item.get<std::string>()));
+  }
+  scene.column.pile_grows = wanted.has(Component::pile);
+  scene.pile_top.enabled = wanted.has(Component::pile_top);
+  scene.avalanche.enabled = wanted.has(Component::avalanche);
+  scene.platform.rigid = !wanted.has(Component::platform);
+  scene.creep.enabled = wanted.has(Component::creep);
+  scene.hourglass.enabled = wanted.has(Component::hourglass);
+  if (!wanted.has(Component::impact_relaxation)) scene.impact.relaxation_s = 0.0;
+  if ((scene.pile_top.enabled || scene.avalanche.enabled) && !scene.column.pile_grows) {
+    reject(origin, "components", "pile_top and avalanche act on the pile: list 'pile' too");
+  }
+}
+
+}  // namespace
+
+void validate_scene(const Scene& scene, const std::string& origin) {
+  detail::visit_scene_fields(scene, [&](const char* section, const char* key, const char*, const double& value,
+                                        const detail::FieldRange& range) {
+    check_range(origin, dotted(section, key), value, range);
+  });
+  const double steps_per_jiffy = 0.010 / scene.internal_step_s;
+  if (std::abs(steps_per_jiffy - std::round(steps_per_jiffy)) > 1e-6) {
+    reject(origin, "internal_step_s", "must divide the 10 ms jiffy (got " + format_number(scene.internal_step_s) + ")");
+  }
+  if (scene.pile_top.enabled && scene.pile_top.flat_radius_m >= 0.5 * scene.column.container_diameter_m) {
+    reject(origin, "pile_top.flat_radius_m", "must be smaller than the container's radius");
+  }
+  if (scene.load_cell.capacity_kg * scene.load_cell.overload_fraction * scene.load_cell.counts_per_kg > 2e9) {
+    reject(origin, "load_cell.capacity_kg", "its counts overflow a 32-bit ADC word");
+  }
+}
+
+Scene parse_scene_json(const std::string& text, const std::string& origin) {
+  json document;
+  try {
+    document = json::parse(text);
+  } catch (const json::parse_error& error) {
+    throw std::runtime_error(origin + ": not valid JSON (" + error.what() + ")");
+  }
+  if (!document.is_object()) throw std::runtime_error(origin + ": a scene is a JSON object");
+
+  Scene scene = default_scene();
+  std::set<std::string> known_sections{"name", "source", "components"};
+  std::set<std::string> used;
+  detail::visit_scene_fields(scene, [&](const char* section, const char* key, const char*, double& value,
+                                        const detail::FieldRange&) {
+    const json* holder = &document;
+    if (*section) {
+      known_sections.insert(section);
+      const auto it = document.find(section);
+      if (it == document.end()) return;
+      if (!it->is_object()) reject(origin, section, "must be an object");
+      holder = &*it;
+    } else {
+      known_sections.insert(key);
+    }
+    const auto field = holder->find(key);
+    if (field == holder->end()) return;
+    if (!field->is_number()) reject(origin, dotted(section, key), "must be a number");
+    value = field->get<double>();
+    used.insert(dotted(section, key));
+  });
+
+  // Every key of the file must be one the scene knows: a typo is an error, not a silent default.
+  // Keys that start with '_' are notes (sources, reasons): JSON has no comments.
+  for (auto it = document.begin(); it != document.end(); ++it) {
+    if (it.key().rfind('_', 0) == 0) continue;
+    if (!known_sections.count(it.key())) reject(origin, it.key(), "unknown field");
+    if (it->is_object()) {
+      for (auto inner = it->begin(); inner != it->end(); ++inner) {
+        if (inner.key().rfind('_', 0) == 0) continue;
+        const std::string name = it.key() + "." + inner.key();
+        if (!used.count(name)) reject(origin, name, "unknown field");
+      }
+    }
+  }
+  if (const auto name = document.find("name"); name != document.end()) {
+    if (!name->is_string() || name->get<std::string>().empty()) reject(origin, "name", "must be a non-empty string");
+    scene.name = name->get<std::string>();
+  }
+  if (const auto source = document.find("source"); source != document.end()) {
+    if (!source->is_string()) reject(origin, "source", "must be a string");
+    scene.source = source->get<std::string>();
+  }
+  if (const auto list = document.find("components"); list != document.end()) apply_components(*list, scene, origin);
+  validate_scene(scene, origin);
+  return scene;
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read the scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_scene_json(text.str(), path);
+}
+
+std::string scenes_directory() {
+  if (const char* env = std::getenv("DYNWEIGH_SCENES"); env && *env) return env;
+#ifdef DYNWEIGH_SCENES_DIR
+  return DYNWEIGH_SCENES_DIR;
+#else
+  return "scenes";
+#endif
+}
+
+std::vector<std::pair<std::string, std::string>> describe_scene(const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> lines;
+  lines.emplace_back("scene", scene.name);
+  detail::visit_scene_fields(scene, [&](const char*, const char*, const char* describe_key, const double& value,
+                                        const detail::FieldRange&) {
+    lines.emplace_back(describe_key, format_number(value));
+  });
+  lines.emplace_back("pile_grows", scene.column.pile_grows ? "1" : "0");
+  lines.emplace_back("platform_rigid", scene.platform.rigid ? "1" : "0");
+  lines.emplace_back("components", components_of(scene).names());
+
+  // What the ideal model (thesis ch. 1, corrected sign) makes of these parameters at full open.
+  const model::BeverlooMaterial<double> material{scene.silo.beverloo_C, scene.silo.beverloo_k, scene.silo.grain_d_m,
+                                                 scene.silo.bulk_density};
+  const double rate = model::beverloo_discharge_kg_s(material, scene.g, scene.silo.bore_m);
+  const double v0 = model::outflow_speed(rate, model::bore_area_m2(scene.silo.bore_m), scene.silo.bulk_density);
+  const double h = scene.column.fall_height_m;
+  lines.emplace_back("full_open_rate_kg_s", format_number(rate));
+  lines.emplace_back("outflow_speed_m_s", format_number(v0));
+  lines.emplace_back("fall_time_s", format_number(model::fall_time(v0, scene.g, h)));
+  lines.emplace_back("in_flight_kg", format_number(model::mass_in_flight(rate, v0, scene.g, h)));
+  lines.emplace_back("impulse_force_n", format_number(model::impulse_force(rate, v0, scene.g, h)));
+  lines.emplace_back("excess_at_close_kg", format_number(model::reading_excess_at_close_kg(rate, v0, scene.g)));
+  lines.emplace_back("source", scene.source);
+  return lines;
+}
+
+}  // namespace dynweigh::sim

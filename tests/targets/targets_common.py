@@ -1,0 +1,75 @@
+"""Helpers of the process-level target tests: bounded waits, key=value parsing, skip status."""
+import os
+import re
+import socket
+import subprocess
+import sys
+import time
+
+SKIP = 77  # ctest SKIP_RETURN_CODE
+
+
+def skip(reason):
+    print(f"SKIP: {reason}", flush=True)
+    sys.exit(SKIP)
+
+
+def fail(reason):
+    print(f"FAIL: {reason}", flush=True)
+    sys.exit(1)
+
+
+def free_udp_ports(count):
+    """Ports free on 127.0.0.1 right now (bound then released by the kernel's choice)."""
+    sockets, ports = [], []
+    for _ in range(count):
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        s.bind(("127.0.0.1", 0))
+        sockets.append(s)
+        ports.append(s.getsockname()[1])
+    for s in sockets:
+        s.close()
+    return ports
+
+
+def key_values(text):
+    return dict(re.findall(r"^([a-z_]+)=(\S*)$", text, re.M))
+
+
+def field(line, name):
+    m = re.search(rf"\b{name}=(\S+)", line)
+    return m.group(1) if m else None
+
+
+def stop(process, timeout=5):
+    """Ends a process we started: SIGTERM, then SIGKILL."""
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(timeout)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+def read_line_matching(stream, pattern, deadline):
+    """Reads lines from a pipe until one matches (a handshake, not a sleep); None at EOF/deadline."""
+    regex = re.compile(pattern)
+    seen = []
+    while time.monotonic() < deadline:
+        line = stream.readline()
+        if not line:
+            break
+        seen.append(line)
+        m = regex.search(line)
+        if m:
+            return m, seen
+    return None, seen
+
+
+def which(program):
+    for d in os.environ.get("PATH", "").split(os.pathsep) + ["/usr/bin", "/usr/sbin", "/sbin"]:
+        p = os.path.join(d, program)
+        if os.path.isfile(p) and os.access(p, os.X_OK):
+            return p
+    return None

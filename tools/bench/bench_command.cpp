@@ -1,0 +1,230 @@
+// dynweigh bench: strategies x scenarios x targets x seeds, closed loop through the same
+// Indicator::step the firmware runs, judged by the plant's true mass. Prints a markdown table,
+// then one key=value line per series; CSV and a PNG of run time against error on request.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "bench_commands.hpp"
+#include "fill_series.hpp"
+#include "progress_bar.hpp"
+#include "step_benchmark.hpp"
+#ifdef DYNWEIGH_HAS_SIM_BENCH
+#include "sim_commands.hpp"
+#endif
+
+namespace dynweigh::tools {
+namespace {
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream stream(text);
+  for (std::string part; std::getline(stream, part, ',');) {
+    if (!part.empty()) parts.push_back(part);
+  }
+  return parts;
+}
+
+sim::Scene required_scene(const std::string& name) {
+  const auto scene = sim::scene_by_name(name);
+  if (!scene) throw std::runtime_error("unknown scene '" + name + "'");
+  return *scene;
+}
+
+// The shipped scenes that dose into a container, plus the two stress scenarios of the issue.
+std::vector<std::string> default_scenarios() {
+  std::vector<std::string> names;
+  for (const auto& name : sim::scene_names()) {
+    if (name != "hourglass") names.push_back(name);  // silo on the scale: nothing to dose
+  }
+  names.push_back("geometry-off-15");
+  names.push_back("material-change");
+  return names;
+}
+
+Scenario make_scenario(const std::string& name) {
+  Scenario scenario;
+  scenario.name = name;
+  if (name == "geometry-off-15") {
+    scenario.scene = required_scene("default");
+    scenario.geometry_error = 0.15;
+  } else if (name == "material-change") {
+    scenario.scene = required_scene("default");
+    scenario.material_change = true;
+  } else {
+    scenario.scene = required_scene(name);
+  }
+  return scenario;
+}
+
+std::string class_text(double x) {
+  if (x <= 0.0) return "none";
+  std::ostringstream out;
+  out << "X(" << x << ")";
+  return out.str();
+}
+
+std::string format_line(const SeriesResult& r, const std::vector<Scenario>& scenarios) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "strategy=%s knob=%g scene=%s target_g=%.0f time_ratio=%.3f time_ratio_max=%.3f bias_g=%.1f "
+                "sd_g=%.1f maxdev_g=%.1f class=%s failed=%zu",
+                bench_strategy_name(r.spec.strategy), r.spec.knob, scenarios[r.spec.scenario].name.c_str(),
+                r.spec.target_g, r.time_ratio_mean, r.time_ratio_max, r.bias_g, r.sd_g, r.max_deviation_g,
+                class_text(r.oiml_class).c_str(), r.failed);
+  return line;
+}
+
+void write_csv(const std::string& path, const std::vector<SeriesResult>& results,
+               const std::vector<Scenario>& scenarios) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << "strategy,knob,scene,target_g,time_ratio,time_ratio_max,bias_g,sd_g,maxdev_g,class,failed\n";
+  for (const auto& r : results) {
+    out << bench_strategy_name(r.spec.strategy) << ',' << r.spec.knob << ',' << scenarios[r.spec.scenario].name << ','
+        << r.spec.target_g << ',' << r.time_ratio_mean << ',' << r.time_ratio_max << ',' << r.bias_g << ','
+        << r.sd_g << ',' << r.max_deviation_g << ',' << r.oiml_class << ',' << r.failed << '\n';
+  }
+}
+
+void write_png(const std::string& path, const std::vector<SeriesResult>& results,
+               const std::vector<Scenario>& scenarios) {
+  // One panel: every series' mean time ratio against its maximum deviation, a colour per strategy.
+  std::map<std::string, std::string> points;
+  for (const auto& r : results) {
+    if (r.fills == r.failed) continue;
+    points[bench_strategy_name(r.spec.strategy)] += std::to_string(r.time_ratio_mean) + " " +
+                                                    std::to_string(std::max(r.max_deviation_g, 0.1)) + " " +
+                                                    scenarios[r.spec.scenario].name + "\n";
+  }
+  std::FILE* gp = popen("gnuplot", "w");
+  if (!gp) throw std::runtime_error("cannot start gnuplot");
+  std::fprintf(gp,
+               "set terminal pngcairo size 1100,700 font 'Sans,11'\nset output '%s'\n"
+               "set title 'dynweigh bench: run time against error (every series)'\n"
+               "set xlabel 'fill time / physical minimum'\nset ylabel 'max deviation of a fill from the mean (g)'\n"
+               "set logscale y\nset grid\nset key top right box\nplot ",
+               path.c_str());
+  bool first = true;
+  for (const auto& entry : points) {
+    std::fprintf(gp, "%s'-' using 1:2 with points pt 7 ps 1.2 title '%s'", first ? "" : ", ", entry.first.c_str());
+    first = false;
+  }
+  std::fprintf(gp, "\n");
+  for (const auto& entry : points) std::fprintf(gp, "%se\n", entry.second.c_str());
+  if (pclose(gp) != 0) throw std::runtime_error("gnuplot failed drawing " + path);
+}
+
+}  // namespace
+
+int run_bench_command(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--step") return run_step_benchmark(argc - 1, argv + 1);
+#ifdef DYNWEIGH_HAS_SIM_BENCH
+    if (std::string(argv[i]) == "--sim") return run_sim_bench(argc, argv);
+#endif
+  }
+  std::string strategies = "model,preact,twostage,twostage-dyn,oracle";
+  std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png;
+  std::uint32_t seeds = 50;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  bool sweep = false, quiet = false;
+  CLI::App app{"dynweigh bench: strategies x scenes x targets x seeds, closed loop through Indicator::step, judged\n"
+               "by the plant's true mass. `--step`: Google Benchmark of Indicator::step. `--sim`: the plant's\n"
+               "speed and accuracy per scene."};
+  app.add_option("--strategies", strategies, "model,preact,twostage,twostage-dyn,oracle")->capture_default_str();
+  app.add_option("--scenes", scene_list, "scenes and scenarios (default: every dosing scene, geometry-off-15, "
+                                          "material-change)");
+  app.add_option("--targets", targets, "targets in grams")->capture_default_str();
+  app.add_option("--seeds", seeds, "fills per series")->capture_default_str()->check(CLI::Range(2u, 100000u));
+  app.add_option("--jobs", jobs, "worker threads")->check(CLI::Range(1u, 256u));
+  app.add_flag("--sweep", sweep, "sweep each strategy's speed knob (twostage: fine band, s of full flow)");
+  app.add_option("--csv", csv, "write the series as CSV");
+  app.add_option("--png", png, "draw run time against error");
+  app.add_flag("--quiet", quiet, "no progress bar");
+  app.add_flag("--step", "Google Benchmark of Indicator::step (other options go to Google Benchmark)");
+  app.add_flag("--sim", "the plant's realtime factor and error per scene");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
+    return 2;
+  }
+  try {
+    std::vector<Scenario> scenarios;
+    for (const auto& name : scene_list.empty() ? default_scenarios() : split(scene_list)) {
+      scenarios.push_back(make_scenario(name));
+    }
+    std::vector<SeriesSpec> specs;
+    for (const auto& name : split(strategies)) {
+      BenchStrategy strategy;
+      if (!parse_bench_strategy(name, strategy)) throw std::runtime_error("unknown strategy '" + name + "'");
+      const bool two_stage = strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
+      const std::vector<double> knobs = two_stage ? (sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5}
+                                                           : std::vector<double>{1.0})
+                                                  : std::vector<double>{0.0};
+      for (double knob : knobs) {
+        for (std::size_t s = 0; s < scenarios.size(); ++s) {
+          for (const auto& t : split(targets)) {
+            double target = 0.0;
+            try {
+              target = std::stod(t);
+            } catch (const std::logic_error&) {
+              throw std::runtime_error("target '" + t + "' is not a number");
+            }
+            if (!(target >= 1.0 && target <= scenarios[s].scene.load_cell.capacity_kg * 1000.0)) {
+              throw std::runtime_error("target " + t + " g is outside the scale's range");
+            }
+            specs.push_back({strategy, knob, s, target});
+          }
+        }
+      }
+    }
+
+    std::vector<SeriesResult> results(specs.size());
+    std::atomic<std::size_t> next{0}, done{0};
+    ProgressBar bar("bench", specs.size(), !quiet);
+    std::mutex bar_mutex;
+    auto worker = [&]() {
+      for (std::size_t i; (i = next++) < specs.size();) {
+        results[i] = run_series(specs[i], scenarios[specs[i].scenario], seeds);
+        const std::size_t finished = ++done;
+        const std::lock_guard<std::mutex> lock(bar_mutex);
+        bar.update(finished);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned j = 0; j < jobs; ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    bar.finish();
+
+    std::printf("| strategy | knob | scene | target g | time / t_phys (mean, max) | bias g | sd g | max dev g | class |\n");
+    std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    for (const auto& r : results) {
+      std::printf("| %s | %g | %s | %.0f | %.3f, %.3f | %.1f | %.1f | %.1f | %s%s |\n", bench_strategy_name(r.spec.strategy),
+                  r.spec.knob, scenarios[r.spec.scenario].name.c_str(), r.spec.target_g, r.time_ratio_mean,
+                  r.time_ratio_max, r.bias_g, r.sd_g, r.max_deviation_g, class_text(r.oiml_class).c_str(),
+                  r.failed ? (" (" + std::to_string(r.failed) + " failed)").c_str() : "");
+    }
+    std::printf("\n");
+    for (const auto& r : results) std::printf("%s\n", format_line(r, scenarios).c_str());
+    if (!csv.empty()) write_csv(csv, results, scenarios);
+    if (!png.empty()) write_png(png, results, scenarios);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace dynweigh::tools

@@ -1,0 +1,241 @@
+#include "fill_series.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "dynweigh/hal/host/lockstep_session.hpp"
+#include "dynweigh/hal/host/scripted_console.hpp"
+#include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/ideal_model.hpp"
+#include "dynweigh/model/valve_let_through.hpp"
+#include "dynweigh/sim/plant.hpp"
+#include "oiml_r61.hpp"
+
+namespace dynweigh::tools {
+namespace {
+
+constexpr double kJiffyS = hal::host::LockstepSession::kJiffyS;
+constexpr std::uint32_t kMaxJiffies = 20000;          // 200 s: any fill of the shipped scenes is shorter
+constexpr std::uint64_t kTrialSeedBase = 900000;      // the engineer's trial fills, never measured
+constexpr std::uint32_t kTrialFills = 5;
+constexpr std::uint32_t kWarmUpFills = 5;             // adaptive strategies learn before we measure
+
+const char* const kNames[] = {"model", "preact", "twostage", "twostage-dyn", "oracle"};
+
+struct Fill {
+  bool ok = false;
+  double true_fill_g = 0.0;
+  double reported_fill_g = 0.0;
+  double time_s = 0.0;
+};
+
+// What the installer types in: the plant's geometry (off by the scenario's error) and its valve's
+// datasheet timing. Nothing else is tuned.
+firmware::PersistentSettings installation(const Scenario& scenario, const sim::Plant& plant) {
+  firmware::PersistentSettings settings = hal::host::factory_settings(plant);
+  firmware::Parameters& p = settings.parameters;
+  const sim::Scene& s = scenario.scene;
+  const double off = 1.0 + scenario.geometry_error;
+  using firmware::ParameterId;
+  p.set(ParameterId::bore_mm, float(s.silo.bore_m * 1000.0 * off));
+  p.set(ParameterId::fall_mm, float(s.column.fall_height_m * 1000.0 * off));
+  p.set(ParameterId::container_mm, float(s.column.container_diameter_m * 1000.0 * off));
+  p.set(ParameterId::density, float(s.silo.bulk_density * off));
+  p.set(ParameterId::capacity_g, float(s.load_cell.capacity_kg * 1000.0));
+  p.set(ParameterId::valve_dead_ms, float(s.valve.dead_time_s * 1000.0));
+  p.set(ParameterId::valve_stroke_ms, float(s.valve.full_stroke_s * 1000.0));
+  p.set(ParameterId::repose_deg, float(s.column.repose_angle_deg));
+  if (!s.column.pile_grows) p.set(ParameterId::container_mm, 5000.0f);  // a pile that never rises
+  return settings;
+}
+
+const char* firmware_strategy(BenchStrategy strategy) {
+  switch (strategy) {
+    case BenchStrategy::preact: return "preact";
+    case BenchStrategy::twostage:
+    case BenchStrategy::twostage_dyn: return "twostage";
+    default: return "model";
+  }
+}
+
+long field_value(const std::string& line, const char* key) {
+  const auto at = line.find(std::string(key) + "=");
+  return at == std::string::npos ? 0 : std::stol(line.substr(at + std::strlen(key) + 1));
+}
+
+Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy strategy, double target_g,
+                    firmware::PersistentSettings& settings) {
+  hal::host::LockstepSession session(scene, seed, settings);
+  std::string output;
+  bool sent = false;
+  const std::string command =
+      "dose " + std::to_string(std::lround(target_g)) + " " + firmware_strategy(strategy);
+  hal::host::ScriptedConsole console(
+      [&](std::string& line) {
+        if (sent) return false;
+        line = command;
+        sent = true;
+        return true;
+      },
+      [&](const char* data, std::size_t n) { output.append(data, n); });
+  console.set_indicator_busy(true);
+  for (int i = 0; i < 20; ++i) session.step(console);  // the display filter settles first
+  console.set_indicator_busy(false);
+  const double before_kg = session.plant().truth().static_kg;
+  Fill fill;
+  for (std::uint32_t j = 0; j < kMaxJiffies; ++j) {
+    const firmware::Outputs out = session.step(console);
+    console.set_indicator_busy(out.busy);
+    if (sent && output.find("OK\n") != std::string::npos) break;
+    if (output.find("ERR") != std::string::npos) return fill;
+  }
+  const auto at = output.find("RESULT ");
+  if (at == std::string::npos) return fill;
+  const std::string result = output.substr(at, output.find('\n', at) - at);
+  fill.ok = true;
+  fill.true_fill_g = (session.plant().truth().static_kg - before_kg) * 1000.0;
+  fill.reported_fill_g = double(field_value(result, "final"));
+  fill.time_s = double(field_value(result, "time")) / 1000.0;
+  settings = session.indicator().settings();  // what it learned goes on to the next fill
+  return fill;
+}
+
+// The limit: a strategy that reads the plant's present truth each jiffy (static mass, mass in
+// flight, present flow, the valve's let-through) but not its future disturbances, and closes
+// within the jiffy when that truth reaches the target. It knows its result when the last grain lands.
+Fill oracle_fill(const sim::Scene& scene, std::uint64_t seed, double target_g) {
+  sim::Plant plant(scene, seed);
+  const model::BeverlooMaterial<double> material{scene.silo.beverloo_C, scene.silo.beverloo_k, scene.silo.grain_d_m,
+                                                 scene.silo.bulk_density};
+  const double let_through_s = model::closing_flow_seconds(material, scene.g, scene.silo.bore_m,
+                                                           scene.valve.dead_time_s, scene.valve.full_stroke_s);
+  const double target_kg = target_g / 1000.0;
+  plant.command_valve(sim::ValveCommand::open);
+  Fill fill;
+  double previous_released = 0.0;
+  bool closed = false;
+  for (std::uint32_t j = 0; j < kMaxJiffies; ++j) {
+    plant.advance(kJiffyS);
+    const sim::PlantTruth& t = plant.truth();
+    if (!closed) {
+      const double flow = (t.released_kg - previous_released) / kJiffyS;
+      previous_released = t.released_kg;
+      const double now = t.released_kg + flow * let_through_s;
+      const double next = now + flow * kJiffyS;
+      if (next >= target_kg) {
+        const double fraction = flow > 0.0 ? std::clamp((target_kg - now) / (flow * kJiffyS), 0.0, 0.99) : 0.0;
+        plant.command_valve(sim::ValveCommand::closed, fraction * kJiffyS);
+        closed = true;
+      }
+    } else if (t.in_flight_kg <= 0.0 && t.stroke <= 0.0) {
+      fill.ok = true;
+      fill.true_fill_g = t.static_kg * 1000.0;
+      fill.reported_fill_g = fill.true_fill_g;
+      fill.time_s = t.time_s;
+      return fill;
+    }
+  }
+  return fill;
+}
+
+// The engineer's tuning of a fixed preact: a few trial fills with none, then the mean overshoot.
+void tune_preact(const Scenario& scenario, BenchStrategy strategy, double target_g,
+                 firmware::PersistentSettings& settings) {
+  const auto id = strategy == BenchStrategy::preact ? firmware::ParameterId::preact_g
+                                                    : firmware::ParameterId::twostage_preact_g;
+  settings.parameters.set(id, 0.0f);
+  double overshoot = 0.0;
+  std::uint32_t counted = 0;
+  for (std::uint32_t i = 0; i < kTrialFills; ++i) {
+    firmware::PersistentSettings trial = settings;
+    const Fill f = indicator_fill(scenario.scene, kTrialSeedBase + i, strategy, target_g, trial);
+    if (!f.ok) continue;
+    overshoot += f.true_fill_g - target_g;
+    ++counted;
+  }
+  if (counted) settings.parameters.set(id, float(std::max(0.0, overshoot / counted)));
+}
+
+}  // namespace
+
+const char* bench_strategy_name(BenchStrategy strategy) { return kNames[static_cast<int>(strategy)]; }
+
+bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy) {
+  for (int i = 0; i < 5; ++i) {
+    if (name == kNames[i]) {
+      strategy = static_cast<BenchStrategy>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+double physical_minimum_s(const sim::Scene& scene, double target_g) {
+  const sim::Plant plant(scene, 1);
+  const double flow = plant.full_open_rate_kg_s();
+  const double v0 = model::outflow_speed(flow, model::bore_area_m2(scene.silo.bore_m), scene.silo.bulk_density);
+  return scene.valve.dead_time_s + target_g / 1000.0 / flow + model::fall_time(v0, scene.g, scene.column.fall_height_m);
+}
+
+sim::Scene scene_for_fill(const Scenario& scenario, std::size_t fill_index, std::size_t fills) {
+  sim::Scene scene = scenario.scene;
+  if (scenario.material_change && fill_index >= fills / 2) {
+    scene.silo.bulk_density *= 0.85;  // a lighter, slower-flowing material
+    scene.silo.beverloo_C *= 0.9;
+  }
+  return scene;
+}
+
+SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t seeds) {
+  SeriesResult result;
+  result.spec = spec;
+  const sim::Plant reference(scenario.scene, 1);
+  firmware::PersistentSettings settings = installation(scenario, reference);
+  const bool two_stage = spec.strategy == BenchStrategy::twostage || spec.strategy == BenchStrategy::twostage_dyn;
+  if (two_stage) {
+    const double band_g = spec.knob * reference.full_open_rate_kg_s() * 1000.0;
+    settings.parameters.set(firmware::ParameterId::twostage_band_g, float(band_g));
+  }
+  if (spec.strategy == BenchStrategy::twostage_dyn) {
+    settings.parameters.set(firmware::ParameterId::certify, float(firmware::CertifyMode::dynamic));
+  }
+  if (spec.strategy == BenchStrategy::preact || two_stage) tune_preact(scenario, spec.strategy, spec.target_g, settings);
+  if (two_stage) {
+    for (std::uint32_t i = 0; i < kWarmUpFills; ++i) {
+      indicator_fill(scenario.scene, kTrialSeedBase + 100 + i, spec.strategy, spec.target_g, settings);
+    }
+  }
+
+  const double t_phys = physical_minimum_s(scenario.scene, spec.target_g);
+  std::vector<double> errors;
+  for (std::uint32_t s = 1; s <= seeds; ++s) {
+    const sim::Scene scene = scene_for_fill(scenario, s - 1, seeds);
+    const Fill f = spec.strategy == BenchStrategy::oracle
+                       ? oracle_fill(scene, s, spec.target_g)
+                       : indicator_fill(scene, s, spec.strategy, spec.target_g, settings);
+    ++result.fills;
+    if (!f.ok) {
+      ++result.failed;
+      continue;
+    }
+    errors.push_back(f.true_fill_g - spec.target_g);
+    const double ratio = f.time_s / t_phys;
+    result.time_ratio_mean += ratio;
+    result.time_ratio_max = std::max(result.time_ratio_max, ratio);
+    result.worst_reported_vs_true_g = std::max(result.worst_reported_vs_true_g, std::abs(f.reported_fill_g - f.true_fill_g));
+  }
+  if (errors.empty()) return result;
+  const double n = double(errors.size());
+  result.time_ratio_mean /= n;
+  for (double e : errors) result.bias_g += e / n;
+  for (double e : errors) {
+    result.sd_g += (e - result.bias_g) * (e - result.bias_g);
+    result.max_deviation_g = std::max(result.max_deviation_g, std::abs(e - result.bias_g));
+  }
+  result.sd_g = errors.size() > 1 ? std::sqrt(result.sd_g / (n - 1.0)) : 0.0;
+  result.oiml_class = result.failed ? 0.0 : best_oiml_class(spec.target_g, result.max_deviation_g, result.bias_g);
+  return result;
+}
+
+}  // namespace dynweigh::tools
