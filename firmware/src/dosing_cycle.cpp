@@ -10,6 +10,9 @@ namespace {
 constexpr float kCertifiedErrorG = 1.0f;
 constexpr float kAgreementG = 0.5f;
 constexpr float kConfidenceSigmas = 1.0f;
+// After the computed landing of the last grain: the dispersion relaxation and the jitter of the
+// valve's dead time.
+constexpr float kLandingMarginS = 0.1f;
 }  // namespace
 
 void DosingCycle::configure(const Parameters& p) {
@@ -79,7 +82,7 @@ void DosingCycle::close_valve(float settle_delay_s) {
   valve_ = ValveCommand::closed;
   phase_ = Phase::settling;
   result_.cutoff_jiffy = jiffies_;
-  settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil((settle_delay_s + 0.1f) / jiffy_s_));
+  settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil((settle_delay_s + kLandingMarginS) / jiffy_s_));
 }
 
 bool DosingCycle::certify_dynamically() const {
