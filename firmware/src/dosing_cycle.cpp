@@ -21,6 +21,7 @@ void DosingCycle::configure(const Parameters& p) {
   preact_g_ = p.get(ParameterId::preact_g);
   twostage_band_g_ = p.get(ParameterId::twostage_band_g);
   twostage_preact_g_ = p.get(ParameterId::twostage_preact_g);
+  model_fine_s_ = p.get(ParameterId::model_fine_s);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
@@ -48,6 +49,14 @@ bool DosingCycle::decide_model(float net_weight_g) {
   const float target = float(result_.target_g);
   last_prediction_g_ = model_.observe(net_weight_g);
   const float growth = model_.growth_per_jiffy_g();
+  // The speed knob: a half-open fine feed for the last model_fine_s of full flow. Less material
+  // in flight means less of the flow's fluctuation left unobserved at the close.
+  if (model_fine_s_ > 0.0f && !model_.fine_feeding() && model_.measuring() &&
+      last_prediction_g_ + growth * model_fine_s_ / jiffy_s_ >= target) {
+    model_.switch_to_half(last_prediction_g_);
+    valve_ = ValveCommand::half;
+    return false;
+  }
   if (!subjiffy_) {
     // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
     return last_prediction_g_ + 0.5f * growth >= target;

@@ -32,6 +32,15 @@ void ModelCutoff::configure(const Parameters& p) {
   geometry_.pile.bulk_density = density;
   geometry_.pile_grows = true;
   geometry_.closing_flow_seconds = model::closing_flow_seconds(material, kGravity, bore_m, dead_s, stroke_s);
+  full_area_m2_ = geometry_.bore_area_m2;
+  full_closing_flow_s_ = geometry_.closing_flow_seconds;
+  const float full_rate = model::discharge_at_stroke_kg_s(material, kGravity, bore_m, 1.0f);
+  const float half_rate = model::discharge_at_stroke_kg_s(material, kGravity, bore_m, 0.5f);
+  half_flow_ratio_ = full_rate > 0.0f ? half_rate / full_rate : 0.5f;
+  half_closing_flow_s_ = half_rate > 0.0f ? model::closing_flow_seconds(material, kGravity, bore_m, dead_s, stroke_s, 0.5f) *
+                                                full_rate / half_rate
+                                          : dead_s;
+  half_transition_s_ = dead_s + 0.25f * stroke_s;
 
   prior_rate_kg_s_ = model::beverloo_discharge_kg_s(material, kGravity, bore_m);
   // Opening mirrors closing: the flow that is missing at the start equals the let-through at the end.
@@ -46,12 +55,33 @@ void ModelCutoff::start(float start_weight_g) {
   start_weight_g_ = start_weight_g;
   jiffies_ = 0;
   impacted_ = false;
+  fine_ = false;
+  geometry_.bore_area_m2 = full_area_m2_;
+  geometry_.closing_flow_seconds = full_closing_flow_s_;
   fit_.reset();
   growth_per_jiffy_g_ = prior_rate_kg_s_ * 1000.0f * jiffy_s_;
   last_fall_time_s_ = model::fall_time(0.0f, kGravity, geometry_.orifice_to_floor_m);
 }
 
+void ModelCutoff::switch_to_half(float predicted_now_g) {
+  fine_ = true;
+  predicted_at_switch_g_ = predicted_now_g;
+  measured_full_rate_g_per_jiffy_ = growth_per_jiffy_g_;
+  switch_jiffy_ = jiffies_;
+  geometry_.bore_area_m2 = full_area_m2_ * model::open_area_fraction(0.5f);
+  geometry_.closing_flow_seconds = half_closing_flow_s_;
+  growth_per_jiffy_g_ *= half_flow_ratio_;
+  fit_.reset();
+  // The half-open stream lands a fall time after the valve has moved; fitting starts after that
+  // and the impact's settling, like at the first impact.
+  impact_jiffy_ = jiffies_ + std::uint32_t(std::ceil((half_transition_s_ + last_fall_time_s_) / jiffy_s_));
+}
+
 float ModelCutoff::prior_prediction_g() const {
+  if (fine_) {
+    const float since_switch = float(jiffies_ - switch_jiffy_);
+    return predicted_at_switch_g_ + since_switch * measured_full_rate_g_per_jiffy_ * half_flow_ratio_;
+  }
   // The sample of the n-th jiffy shows n - 1 jiffies of the valve's being open.
   const float open_s = float(jiffies_ - 1) * jiffy_s_;
   const float flowing_s = std::fmax(0.0f, open_s - opening_delay_s_);

@@ -40,6 +40,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      1000, nullptr, 0},
     {"twostage_preact_g", "twostage strategy: fine-feed preact, adapted after each fill, g", 0, 100000, 60,
      nullptr, 0},
+    {"model_fine_s", "model strategy: half-open fine feed for this many seconds of full flow before the "
+     "target (0: fastest)", 0, 10, 0, nullptr, 0},
 };
 
 }  // namespace

@@ -146,7 +146,8 @@ int run_bench_command(int argc, char** argv) {
   app.add_option("--targets", targets, "targets in grams")->capture_default_str();
   app.add_option("--seeds", seeds, "fills per series")->capture_default_str()->check(CLI::Range(2u, 100000u));
   app.add_option("--jobs", jobs, "worker threads")->check(CLI::Range(1u, 256u));
-  app.add_flag("--sweep", sweep, "sweep each strategy's speed knob (twostage: fine band, s of full flow)");
+  app.add_flag("--sweep", sweep, "sweep each strategy's speed knob: the half-open fine feed, in seconds of full "
+                               "flow (model: model_fine_s, twostage: its band)");
   app.add_option("--csv", csv, "write the series as CSV");
   app.add_option("--png", png, "draw run time against error");
   app.add_flag("--quiet", quiet, "no progress bar");
@@ -170,9 +171,9 @@ int run_bench_command(int argc, char** argv) {
       BenchStrategy strategy;
       if (!parse_bench_strategy(name, strategy)) throw std::runtime_error("unknown strategy '" + name + "'");
       const bool two_stage = strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
-      const std::vector<double> knobs = two_stage ? (sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5}
-                                                           : std::vector<double>{1.0})
-                                                  : std::vector<double>{0.0};
+      std::vector<double> knobs{0.0};
+      if (two_stage) knobs = sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5} : std::vector<double>{1.0};
+      if (strategy == BenchStrategy::model && sweep) knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
       for (double knob : knobs) {
         for (std::size_t s = 0; s < scenarios.size(); ++s) {
           for (const auto& t : split(targets)) {

@@ -197,6 +197,9 @@ SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::u
     const double band_g = spec.knob * reference.full_open_rate_kg_s() * 1000.0;
     settings.parameters.set(firmware::ParameterId::twostage_band_g, float(band_g));
   }
+  if (spec.strategy == BenchStrategy::model) {
+    settings.parameters.set(firmware::ParameterId::model_fine_s, float(spec.knob));
+  }
   if (spec.strategy == BenchStrategy::twostage_dyn) {
     settings.parameters.set(firmware::ParameterId::certify, float(firmware::CertifyMode::dynamic));
   }

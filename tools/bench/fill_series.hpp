@@ -24,7 +24,7 @@ bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy);
 
 struct SeriesSpec {
   BenchStrategy strategy = BenchStrategy::model;
-  double knob = 0.0;  // twostage: fine band in seconds of full flow
+  double knob = 0.0;  // the half-open fine feed in seconds of full flow (model, twostage)
   std::size_t scenario = 0;
   double target_g = 0.0;
 };

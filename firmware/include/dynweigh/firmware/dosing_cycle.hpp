@@ -58,6 +58,7 @@ class DosingCycle {
   float preact_g_ = 0.0f;
   float twostage_band_g_ = 0.0f;
   float twostage_preact_g_ = 0.0f;
+  float model_fine_s_ = 0.0f;
   float timeout_s_ = 120.0f;
   float settle_limit_s_ = 60.0f;
   bool subjiffy_ = true;

@@ -27,10 +27,21 @@ class ModelCutoff {
   float settle_delay_s() const;
   bool measuring() const { return fit_.count() >= kMinimumFitSamples; }
 
+  // The valve goes to half: the flow, the open area and the let-through change, so the fit starts
+  // again once the half-open stream has reached the pile. Until then the prediction at the switch
+  // grows at the half-open flow Beverloo gives.
+  void switch_to_half(float predicted_now_g);
+  bool fine_feeding() const { return fine_; }
+
  private:
   float prior_prediction_g() const;
 
   model::CutoffGeometry<float> geometry_;
+  float full_area_m2_ = 0.0f;
+  float full_closing_flow_s_ = 0.0f;
+  float half_closing_flow_s_ = 0.0f;  // in seconds of half-open flow
+  float half_flow_ratio_ = 0.5f;      // Beverloo: half-open flow / full flow
+  float half_transition_s_ = 0.0f;    // dead time and half a stroke
   float jiffy_s_ = 0.01f;
   float prior_rate_kg_s_ = 0.0f;
   float opening_delay_s_ = 0.0f;
@@ -44,6 +55,10 @@ class ModelCutoff {
   bool impacted_ = false;
   float growth_per_jiffy_g_ = 0.0f;
   float last_fall_time_s_ = 0.0f;
+  bool fine_ = false;
+  float predicted_at_switch_g_ = 0.0f;
+  float measured_full_rate_g_per_jiffy_ = 0.0f;
+  std::uint32_t switch_jiffy_ = 0;
 };
 
 }  // namespace dynweigh::firmware

@@ -28,6 +28,7 @@ enum class ParameterId : std::uint8_t {
   certify,
   twostage_band_g,
   twostage_preact_g,
+  model_fine_s,
   count
 };
 

@@ -1,0 +1,187 @@
+#include "replay_run.hpp"
+
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/host/inputs_recording.hpp"
+
+namespace dynweigh::tools {
+namespace {
+
+using hal::host::RecordedJiffy;
+
+// One indicator, stepped jiffy by jiffy, watched for what a reader of the replay wants to know.
+class ReplayStepper {
+ public:
+  ReplayStepper(const firmware::PersistentSettings& settings, const ReplaySinks& sinks, ReplaySummary& summary)
+      : indicator_(std::make_unique<firmware::Indicator>(settings)), sinks_(sinks), summary_(summary) {}
+
+  // Steps one jiffy; `recorded_valve` is what the recording's valve did (-1 unknown).
+  firmware::Outputs step(const RecordedJiffy& jiffy, int recorded_valve) {
+    const firmware::Outputs out = indicator_->step(jiffy.inputs());
+    tx_.clear();
+    char buffer[512];
+    for (std::size_t n; (n = indicator_->drain_console(buffer, sizeof buffer)) > 0;) tx_.append(buffer, n);
+    if (!tx_.empty() && sinks_.console) sinks_.console(tx_.data(), tx_.size());
+    collect_results();
+
+    const bool dosing = out.state == firmware::IndicatorState::dosing;
+    if (dosing && !was_dosing_ && summary_.dose_start_jiffy < 0) summary_.dose_start_jiffy = long(jiffy.jiffy);
+    // A cutoff: the valve told to close while the dose goes on (settling), not by a fault.
+    if (was_dosing_ && previous_valve_ != firmware::ValveCommand::closed && out.valve == firmware::ValveCommand::closed &&
+        out.state != firmware::IndicatorState::fault && summary_.cutoff_jiffy < 0) {
+      summary_.cutoff_jiffy = long(jiffy.jiffy);
+    }
+    was_dosing_ = dosing;
+    previous_valve_ = out.valve;
+
+    if (sinks_.row) {
+      const firmware::Calibration& cal = indicator_->settings().calibration;
+      ReplayRow row;
+      row.jiffy = jiffy.jiffy;
+      row.raw_counts = jiffy.load_cell.raw_counts;
+      row.gross_g = cal.valid() ? (float(row.raw_counts) - cal.zero_counts) / cal.counts_per_gram : 0.0f;
+      row.filtered_g = indicator_->filtered_weight_g();
+      row.has_prediction = dosing;
+      row.prediction_g = indicator_->last_prediction_g();
+      row.valve = out.valve;
+      row.state = out.state;
+      row.recorded_valve = recorded_valve;
+      sinks_.row(row);
+    }
+    ++summary_.jiffies;
+    return out;
+  }
+
+  const std::string& console_tx() const { return tx_; }
+  bool busy() const { return indicator_->busy(); }
+
+ private:
+  void collect_results() {
+    pending_line_ += tx_;
+    for (std::size_t end; (end = pending_line_.find('\n')) != std::string::npos;) {
+      const std::string line = pending_line_.substr(0, end);
+      if (line.rfind("RESULT ", 0) == 0) summary_.results.push_back(line);
+      pending_line_.erase(0, end + 1);
+    }
+  }
+
+  std::unique_ptr<firmware::Indicator> indicator_;  // a few kB: keep it off the stack
+  const ReplaySinks& sinks_;
+  ReplaySummary& summary_;
+  std::string tx_, pending_line_;
+  bool was_dosing_ = false;
+  firmware::ValveCommand previous_valve_ = firmware::ValveCommand::closed;
+};
+
+// Rewrites `dose <g> [<strategy>]` lines of a console stream to another strategy. Bytes of a line
+// wait until its end has arrived, so a line split over jiffies is rewritten whole.
+class DoseStrategyRewriter {
+ public:
+  explicit DoseStrategyRewriter(firmware::DosingStrategy strategy) : name_(firmware::strategy_name(strategy)) {}
+
+  std::string feed(const std::string& bytes) {
+    std::string out;
+    for (char c : bytes) {
+      if (c != '\r' && c != '\n') {
+        line_.push_back(c);
+        continue;
+      }
+      out += rewrite(line_);
+      out.push_back(c);
+      line_.clear();
+    }
+    return out;
+  }
+  std::size_t rewritten() const { return rewritten_; }
+
+ private:
+  std::string rewrite(const std::string& line) {
+    std::istringstream words(line);
+    std::string command, grams, extra;
+    if (!(words >> command) || command != "dose" || !(words >> grams)) return line;
+    ++rewritten_;
+    return "dose " + grams + " " + name_;
+  }
+
+  std::string name_;
+  std::string line_;
+  std::size_t rewritten_ = 0;
+};
+
+std::string describe(const firmware::Outputs& o) {
+  std::ostringstream s;
+  s << "valve=" << int(o.valve) << " delay=" << int(o.valve_delay_100us) << " state=" << int(o.state)
+    << " weight_100mg=" << o.weight_100mg << " busy=" << o.busy;
+  return s.str();
+}
+
+}  // namespace
+
+ReplaySummary replay_inputs_recording(const std::string& path, const ReplayOptions& options, const ReplaySinks& sinks) {
+  if (!options.console_lines.empty()) {
+    throw std::runtime_error("an inputs recording replays its own console; --dose/--send are for raw samples");
+  }
+  hal::host::InputsRecordingReader reader(path);
+  ReplaySummary summary;
+  summary.format = "inputs";
+  summary.source = reader.source();
+  summary.open_loop = options.strategy.has_value();
+  std::optional<DoseStrategyRewriter> rewriter;
+  if (options.strategy) rewriter.emplace(*options.strategy);
+  ReplayStepper stepper(reader.settings(), sinks, summary);
+  summary.checked = !summary.open_loop;
+  for (RecordedJiffy jiffy; reader.next(jiffy);) {
+    if (rewriter) jiffy.console_rx = rewriter->feed(jiffy.console_rx);
+    const int recorded_valve = jiffy.has_outputs ? int(jiffy.outputs.valve) : -1;
+    const firmware::Outputs out = stepper.step(jiffy, recorded_valve);
+    if (!jiffy.has_outputs) summary.checked = false;
+    if (summary.checked && summary.first_mismatch_jiffy < 0) {
+      if (!hal::host::same_outputs(out, jiffy.outputs)) {
+        summary.first_mismatch_jiffy = long(jiffy.jiffy);
+        summary.mismatch = "outputs " + describe(out) + ", recorded " + describe(jiffy.outputs);
+      } else if (stepper.console_tx() != jiffy.console_tx) {
+        summary.first_mismatch_jiffy = long(jiffy.jiffy);
+        summary.mismatch = "console output differs";
+      }
+    }
+    if (sinks.progress) sinks.progress(summary.jiffies, 0);
+  }
+  if (rewriter) summary.doses_rewritten = rewriter->rewritten();
+  return summary;
+}
+
+ReplaySummary replay_samples(const RecordedSamples& samples, const ReplayOptions& options, const ReplaySinks& sinks) {
+  ReplaySummary summary;
+  summary.format = samples.format;
+  summary.open_loop = true;
+  if (options.strategy) throw std::runtime_error("--strategy applies to an inputs recording; give --dose G --strategy S together");
+  const long start = options.start_jiffy >= 0 ? options.start_jiffy : std::max(0L, samples.first_open_jiffy());
+  ReplayStepper stepper(options.settings, sinks, summary);
+  std::size_t next_line = 0;
+  bool waiting = false;  // a line was sent; the indicator has not yet finished it
+  for (std::size_t i = 0; i < samples.samples.size(); ++i) {
+    RecordedJiffy jiffy;
+    jiffy.jiffy = std::uint32_t(i);
+    jiffy.load_cell.raw_counts = samples.samples[i].raw_counts;
+    jiffy.load_cell.counter = std::uint16_t(i & 0xffffu);
+    const int valve = samples.samples[i].valve;
+    // The feedback a valve module would have sent: as recorded, open = 3, half = 2 (SPEC §4).
+    jiffy.valve_position = valve == 2   ? firmware::ValvePosition::open
+                           : valve == 1 ? firmware::ValvePosition::half
+                                        : firmware::ValvePosition::closed;
+    if (!waiting && next_line < options.console_lines.size() && long(i) >= start) {
+      jiffy.console_rx = options.console_lines[next_line++] + "\n";
+      ++summary.commands_sent;
+      waiting = true;
+    }
+    stepper.step(jiffy, valve);
+    if (waiting && !stepper.busy()) waiting = false;
+    if (sinks.progress) sinks.progress(i + 1, samples.samples.size());
+  }
+  return summary;
+}
+
+}  // namespace dynweigh::tools
