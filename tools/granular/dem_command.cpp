@@ -1,12 +1,17 @@
 // dynweigh dem: the 2D DEM silo of the peer inputs (thesis section 3.4), discharge rate, speed,
 // and the force on the bottom (the scale) every step.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "command_line_errors.hpp"
+#include "dynweigh/granular/impact_relaxation_estimate.hpp"
+#include "dynweigh/granular/outflow_profile.hpp"
 #include "dynweigh/granular/silo2d.hpp"
 #include "granular_commands.hpp"
 
@@ -25,6 +30,9 @@ int run_dem_command(int argc, char** argv) {
   long long sample_every = 2000;
   unsigned long long seed = 58271;
   double container_drop = 0;
+  long long stop_below_option = -1;
+  bool no_calibration = false;
+  int calibration_every = 20;
   std::string csv;
   app.add_option("--scene", scene, "built-in scene: silo2d (the peer silo)")->check(CLI::IsMember({"silo2d"}));
   app.add_flag("--silo2d", silo2d, "the peer's 2D flat-bottom silo");
@@ -32,9 +40,12 @@ int run_dem_command(int argc, char** argv) {
   app.add_option("--particles", particles, "moving discs (peer: 3612)")->check(CLI::Range(1, 10000000));
   app.add_option("--steps", steps, "discharge steps at most (stops earlier when 36 % of the discs left)")->check(CLI::NonNegativeNumber);
   app.add_option("--fill-steps", fill_steps, "settling steps with the orifice closed (peer: 120000)")->check(CLI::NonNegativeNumber);
+  app.add_option("--stop-below", stop_below_option, "stop when fewer discs than this are above the bottom (peer: 2300; default 2300/3612 of the fill)")->check(CLI::NonNegativeNumber);
   app.add_option("--sample-every", sample_every, "steps between counts of the discs left")->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "seed of the disc diameters");
   app.add_option("--container-drop", container_drop, "put a container bottom (the scale) this far below the orifice")->check(CLI::NonNegativeNumber);
+  app.add_flag("--no-calibration", no_calibration, "skip the calibration measurements (alpha, impact relaxation) for pure speed runs");
+  app.add_option("--calibration-every", calibration_every, "steps between samples of the outflow speed profile")->check(CLI::PositiveNumber);
   app.add_option("--csv", csv, "write step,time,discs_above,silo_bottom_force_y,container_force_y every step");
   try {
     app.parse(argc, argv);
@@ -56,6 +67,9 @@ int run_dem_command(int argc, char** argv) {
     out << "step,time,discs_above,silo_bottom_force_y,container_force_y\n";
   }
   Dem2dWorld world = make_silo2d(config);
+  // Wall-clock and process CPU time: on a shared machine the CPU time is the fairer measure of
+  // speed (compare_lammps.sh takes LAMMPS' CPU time the same way).
+  const std::clock_t fill_cpu_start = std::clock();
   const auto fill_start = std::chrono::steady_clock::now();
   double fill_particle_steps = 0;
   for (long long s = 0; s < fill_steps; ++s) {
@@ -63,19 +77,39 @@ int run_dem_command(int argc, char** argv) {
     fill_particle_steps += static_cast<double>(world.size());
   }
   const double fill_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - fill_start).count();
+  const double fill_cpu_seconds = static_cast<double>(std::clock() - fill_cpu_start) / CLOCKS_PER_SEC;
+  const std::int64_t fill_rebuilds = world.list_rebuilds();
   open_silo2d_orifice(world, config, orifice);
 
   // Discharge: the peer stops when fewer than 2300 of its 3612 discs are above the bottom.
-  const auto stop_below = static_cast<std::size_t>(static_cast<double>(world.count_moving_above(0.5)) * 2300.0 / 3612.0);
+  const auto stop_below = stop_below_option >= 0 ? static_cast<std::size_t>(stop_below_option)
+                                                 : static_cast<std::size_t>(static_cast<double>(world.count_moving_above(0.5)) * 2300.0 / 3612.0);
   const std::size_t container_wall = world.wall_count() - 1;
+  // Calibration of the lumped plant: the outflow speed profile across the orifice (alpha) and,
+  // with a container, its load after the stream lands (impact relaxation time).
+  OutflowProfile outflow = make_silo2d_outflow_profile(config.width, orifice, std::max(4, 2 * orifice));
+  std::vector<double> load_time, load;
+  if (!no_calibration && container_drop > 0) {
+    const auto expected = static_cast<std::size_t>(std::min(steps, 1LL << 22));  // grows beyond, if asked
+    load_time.reserve(expected);
+    load.reserve(expected);
+  }
   DischargeResult result;
   result.samples.push_back({world.time(), world.count_moving_above(0.5)});
+  const std::clock_t cpu_start = std::clock();
   const auto start = std::chrono::steady_clock::now();
   long long done = 0;
   while (done < steps) {
     world.step();
     ++done;
     result.particle_steps += static_cast<double>(world.size());
+    if (!no_calibration) {
+      if (done % calibration_every == 0) sample_outflow(outflow, world);
+      if (container_drop > 0) {
+        load_time.push_back(world.time());
+        load.push_back(-world.wall_force(container_wall).y);
+      }
+    }
     if (out) {
       const double container = container_drop > 0 ? world.wall_force(container_wall).y : 0.0;
       out << done << ',' << world.time() << ',' << (done % sample_every == 0 ? std::to_string(world.count_moving_above(0.5)) : "")
@@ -88,14 +122,34 @@ int run_dem_command(int argc, char** argv) {
     }
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   result.steps = done;
   fit_discharge_rates(result, 0.1);
-  std::printf("scene=silo2d\norifice=%d\nparticles=%d\nfill_steps=%lld\nfill_particle_steps_per_s=%.4g\nsteps=%lld\n"
-              "particles_left=%zu\nparticle_steps_per_s=%.4g\ndischarge_rate=%.4f\ndischarge_rate_first_half=%.4f\n"
-              "discharge_rate_second_half=%.4f\nseconds=%.3f\n",
-              orifice, particles, fill_steps, fill_seconds > 0 ? fill_particle_steps / fill_seconds : 0.0, done,
-              world.moving_count(), seconds > 0 ? result.particle_steps / seconds : 0.0,
-              result.rate, result.rate_first_half, result.rate_second_half, seconds);
+  const auto rate_of = [](double work, double time) { return time > 0 ? work / time : 0.0; };
+  std::printf("scene=silo2d\norifice=%d\nparticles=%d\nfill_steps=%lld\nfill_particle_steps=%.6g\n"
+              "fill_seconds=%.3f\nfill_cpu_seconds=%.3f\nfill_particle_steps_per_s=%.4g\nfill_particle_steps_per_cpu_s=%.4g\n"
+              "fill_list_rebuilds=%lld\n",
+              orifice, particles, fill_steps, fill_particle_steps, fill_seconds, fill_cpu_seconds,
+              rate_of(fill_particle_steps, fill_seconds), rate_of(fill_particle_steps, fill_cpu_seconds),
+              static_cast<long long>(fill_rebuilds));
+  std::printf("steps=%lld\nparticles_left=%zu\nparticle_steps=%.6g\nseconds=%.3f\ncpu_seconds=%.3f\n"
+              "particle_steps_per_s=%.4g\nparticle_steps_per_cpu_s=%.4g\nlist_rebuilds=%lld\n"
+              "discharge_rate=%.4f\ndischarge_rate_first_half=%.4f\ndischarge_rate_second_half=%.4f\n",
+              done, world.moving_count(), result.particle_steps, seconds, cpu_seconds,
+              rate_of(result.particle_steps, seconds), rate_of(result.particle_steps, cpu_seconds),
+              static_cast<long long>(world.list_rebuilds() - fill_rebuilds), result.rate, result.rate_first_half,
+              result.rate_second_half);
+  if (!no_calibration) {
+    const OutflowSummary o = summarize_outflow(outflow);
+    std::printf("outflow_alpha=%.4f\noutflow_mean_speed=%.4f\noutflow_peak_speed=%.4f\noutflow_sampled_discs=%.0f\n", o.alpha,
+                o.mean_speed, o.peak_speed, o.sampled_discs);
+    if (container_drop > 0) {
+      const ImpactRelaxationEstimate e = estimate_impact_relaxation(load_time, load);
+      std::printf("impact_valid=%d\nimpact_landing_time=%.4f\nimpact_step_force=%.4f\nimpact_load_slope=%.4f\n"
+                  "impact_relaxation_time=%.4f\n",
+                  e.valid ? 1 : 0, e.landing_time, e.step_force, e.load_slope, e.relaxation_time);
+    }
+  }
   return 0;
 }
 

@@ -2,7 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace dynweigh::granular {
 
@@ -11,6 +16,9 @@ namespace {
 // half lists hold each pair once. Reserving 8 per disc keeps step() free of reallocation.
 constexpr std::size_t kPairsPerDiscReserve = 8;
 constexpr std::size_t kWallContactsPerDiscReserve = 2;
+// Discs within reach of one disc: 9 cells of at least one reach each hold far fewer than this
+// (dense packing of the smallest discs), so the candidate buffer never overflows in practice.
+constexpr std::size_t kNeighbourCandidatesMax = 1024;
 }  // namespace
 
 Dem2dWorld::Dem2dWorld(const Dem2dSettings& settings, std::size_t disc_capacity)
@@ -22,11 +30,11 @@ Dem2dWorld::Dem2dWorld(const Dem2dSettings& settings, std::size_t disc_capacity)
     v->reserve(disc_capacity);
   }
   pairs_.reserve(disc_capacity * kPairsPerDiscReserve);
+  touching_.reserve(disc_capacity * kPairsPerDiscReserve);
   old_pairs_.reserve(disc_capacity * kPairsPerDiscReserve);
   wall_contacts_.reserve(disc_capacity * kWallContactsPerDiscReserve + 16);
   old_wall_contacts_.reserve(disc_capacity * kWallContactsPerDiscReserve + 16);
-  scratch_.reserve(256);
-  first_pair_.reserve(disc_capacity + 1);
+  scratch_.assign(kNeighbourCandidatesMax, 0);
   new_index_.reserve(disc_capacity);
   fixed_list_.reserve(disc_capacity);
 }
@@ -34,6 +42,7 @@ Dem2dWorld::Dem2dWorld(const Dem2dSettings& settings, std::size_t disc_capacity)
 std::size_t Dem2dWorld::add_disc(const DiscSpec& d) {
   if (count_ >= capacity_) throw std::length_error("DEM disc capacity exceeded");
   if (!(d.radius > 0) || !(d.mass > 0)) throw std::invalid_argument("disc radius and mass must be positive");
+  finish_half_kick();
   x_.push_back(d.x);
   y_.push_back(d.y);
   vx_.push_back(d.fixed ? 0.0 : d.vx);
@@ -56,6 +65,7 @@ std::size_t Dem2dWorld::add_disc(const DiscSpec& d) {
 }
 
 std::size_t Dem2dWorld::add_wall(const WallSegment& wall) {
+  finish_half_kick();
   walls_.push_back(wall);
   wall_force_.push_back(Force2{});
   lists_valid_ = false;
@@ -71,6 +81,7 @@ std::size_t Dem2dWorld::count_moving_above(double level) const {
 }
 
 std::size_t Dem2dWorld::remove_discs_in_box(double min_x, double max_x, double min_y, double max_y, bool fixed_only) {
+  finish_half_kick();
   new_index_.assign(count_, 0);
   std::int32_t next = 0;
   std::size_t removed = 0;
@@ -161,6 +172,7 @@ void Dem2dWorld::rebuild_lists() {
   std::swap(pairs_, old_pairs_);
   pairs_.clear();
   build_pairs();
+  touching_.resize(pairs_.size());  // within the capacity reserved at set-up
   std::swap(wall_contacts_, old_wall_contacts_);
   wall_contacts_.clear();
   build_wall_contacts();
@@ -171,29 +183,49 @@ void Dem2dWorld::rebuild_lists() {
 void Dem2dWorld::build_pairs() {
   const double skin = settings_.skin;
   const std::uint32_t* items = grid_.items();
+  const double* __restrict x = x_.data();
+  const double* __restrict y = y_.data();
+  const double* __restrict r = radius_.data();
+  const double* __restrict inv_mass = inv_mass_.data();
+  const int cells_x = grid_.cells_x(), cells_y = grid_.cells_y();
   std::size_t old = 0;
-  first_pair_.assign(count_ + 1, 0);
   for (std::size_t i = 0; i < count_; ++i) {
-    first_pair_[i] = static_cast<std::uint32_t>(pairs_.size());
-    const int cx = grid_.cell_x_of(x_[i]);
-    const int cy = grid_.cell_y_of(y_[i]);
-    const bool i_fixed = inv_mass_[i] == 0.0;
-    scratch_.clear();
-    for (int ny = std::max(0, cy - 1); ny <= std::min(grid_.cells_y() - 1, cy + 1); ++ny) {
-      for (int nx = std::max(0, cx - 1); nx <= std::min(grid_.cells_x() - 1, cx + 1); ++nx) {
-        for (std::uint32_t k = grid_.begin(nx, ny); k < grid_.end(nx, ny); ++k) {
-          const std::uint32_t j = items[k];
-          if (j <= i) continue;
-          if (i_fixed && inv_mass_[j] == 0.0) continue;  // two fixed discs never interact
-          const double dx = x_[i] - x_[j];
-          const double dy = y_[i] - y_[j];
-          const double reach = radius_[i] + radius_[j] + skin;
-          if (dx * dx + dy * dy < reach * reach) scratch_.push_back(j);
+    const int cell = static_cast<int>(grid_.cell_of(i));
+    const int cx = cell % cells_x, cy = cell / cells_x;
+    const bool i_fixed = inv_mass[i] == 0.0;
+    const double xi = x[i], yi = y[i], reach_i = r[i] + skin;
+    std::size_t found = 0;
+    std::uint32_t* candidates = scratch_.data();
+    for (int ny = std::max(0, cy - 1); ny <= std::min(cells_y - 1, cy + 1); ++ny) {
+      for (int nx = std::max(0, cx - 1); nx <= std::min(cells_x - 1, cx + 1); ++nx) {
+        // Items of a cell are ascending: walk down from the top while j > i.
+        const std::uint32_t first = grid_.begin(nx, ny);
+        for (std::uint32_t k = grid_.end(nx, ny); k > first; --k) {
+          const std::uint32_t j = items[k - 1];
+          if (j <= i) break;
+          const double dx = xi - x[j];
+          const double dy = yi - y[j];
+          const double reach = reach_i + r[j];
+          const bool near = dx * dx + dy * dy < reach * reach && !(i_fixed && inv_mass[j] == 0.0);
+          candidates[found] = j;  // two fixed discs never interact
+          found += near ? 1 : 0;
+          if (found == scratch_.size()) {  // only for extreme size ratios: grow, never overflow
+            scratch_.resize(2 * scratch_.size());
+            candidates = scratch_.data();
+          }
         }
       }
     }
-    std::sort(scratch_.begin(), scratch_.end());
-    for (const std::uint32_t j : scratch_) {
+    // Insertion sort: a handful of candidates.
+    for (std::size_t a = 1; a < found; ++a) {
+      const std::uint32_t v = candidates[a];
+      std::size_t b = a;
+      for (; b > 0 && candidates[b - 1] > v; --b) candidates[b] = candidates[b - 1];
+      candidates[b] = v;
+    }
+    if (pairs_.size() + found > pairs_.capacity()) pairs_.reserve(2 * pairs_.capacity() + found);  // not in steady state
+    for (std::size_t a = 0; a < found; ++a) {
+      const std::uint32_t j = candidates[a];
       Pair p{static_cast<std::uint32_t>(i), j, mass_[i] * mass_[j] / (mass_[i] + mass_[j]), 0.0, 0.0};
       // Carry the tangential history over: both lists are sorted by (i, j).
       while (old < old_pairs_.size() &&
@@ -207,7 +239,6 @@ void Dem2dWorld::build_pairs() {
       pairs_.push_back(p);
     }
   }
-  first_pair_[count_] = static_cast<std::uint32_t>(pairs_.size());
 }
 
 void Dem2dWorld::build_wall_contacts() {
@@ -239,36 +270,124 @@ namespace {
 // Tangential part of the Cundall-Strack contact, as LAMMPS gran/hooke/history: accumulate the
 // tangential displacement, keep it in the tangent plane, and cap the force at mu |F_n| by
 // rescaling the history (so the spring holds exactly the sliding force).
+// The constants are copied into a local struct so the stores to the history (doubles) cannot
+// be taken to alias them.
+struct TangentialConstants {
+  double stiffness, damping, friction, dt;
+};
 struct TangentialResult {
   double fx, fy;
 };
-inline TangentialResult tangential_force(double& sx, double& sy, double vtx, double vty, double nx, double ny,
-                                         double fn, double meff, const ContactParameters& c, double dt) {
-  sx += vtx * dt;
-  sy += vty * dt;
+inline TangentialResult tangential_force(double& shear_x, double& shear_y, double vtx, double vty, double nx, double ny,
+                                         double fn, double meff, const TangentialConstants& c) {
+  double sx = shear_x + vtx * c.dt;
+  double sy = shear_y + vty * c.dt;
   const double sn = sx * nx + sy * ny;
   sx -= sn * nx;
   sy -= sn * ny;
-  const double damp = meff * c.tangential_damping;
-  double ftx = -(c.tangential_stiffness * sx + damp * vtx);
-  double fty = -(c.tangential_stiffness * sy + damp * vty);
+  const double damp = meff * c.damping;
+  double ftx = -(c.stiffness * sx + damp * vtx);
+  double fty = -(c.stiffness * sy + damp * vty);
   const double ft2 = ftx * ftx + fty * fty;
   const double limit = c.friction * std::fabs(fn);
   if (ft2 > limit * limit) {
     const double ratio = limit / std::sqrt(ft2);
-    const double lag = damp / c.tangential_stiffness;
+    const double lag = damp / c.stiffness;
     sx = ratio * (sx + lag * vtx) - lag * vtx;
     sy = ratio * (sy + lag * vty) - lag * vty;
     ftx *= ratio;
     fty *= ratio;
   }
+  shear_x = sx;
+  shear_y = sy;
   return {ftx, fty};
+}
+
+// Two contacts at once, one per lane of a 2-wide vector of doubles (GCC/Clang vector
+// extensions: SSE2 on x86-64, NEON on AArch64, plain scalar code elsewhere). Every lane does
+// exactly the arithmetic of the scalar contact (same operations, same order; sliding is chosen
+// per lane by a select), so the results are those of the scalar code on any target.
+using Lane2 = double __attribute__((vector_size(16)));
+using Mask2 = std::int64_t __attribute__((vector_size(16)));
+
+inline Lane2 lane_sqrt(Lane2 a) {
+#if defined(__SSE2__)
+  return _mm_sqrt_pd(a);
+#else
+  return Lane2{std::sqrt(a[0]), std::sqrt(a[1])};
+#endif
+}
+
+inline Lane2 lane_abs(Lane2 a) {
+  const Mask2 no_sign = {0x7fffffffffffffffLL, 0x7fffffffffffffffLL};
+  return reinterpret_cast<Lane2>(reinterpret_cast<Mask2>(a) & no_sign);
+}
+
+struct PairLaneConstants {
+  double kn, gn;
+  TangentialConstants tangential;
+};
+
+struct PairLaneForces {
+  Lane2 fx, fy, torque_i, torque_j, shear_x, shear_y;
+};
+
+inline PairLaneForces pair_lane_forces(const Dem2dWorld::Pair& p0, const Dem2dWorld::Pair& p1, const double* __restrict x,
+                                       const double* __restrict y, const double* __restrict vx, const double* __restrict vy,
+                                       const double* __restrict w, const double* __restrict r, const PairLaneConstants& c) {
+  const std::uint32_t i0 = p0.i, j0 = p0.j, i1 = p1.i, j1 = p1.j;
+  const Lane2 ri = {r[i0], r[i1]};
+  const Lane2 rj = {r[j0], r[j1]};
+  const Lane2 dx = Lane2{x[i0], x[i1]} - Lane2{x[j0], x[j1]};
+  const Lane2 dy = Lane2{y[i0], y[i1]} - Lane2{y[j0], y[j1]};
+  const Lane2 rsq = dx * dx + dy * dy;
+  const Lane2 radsum = ri + rj;
+  const Lane2 dist = lane_sqrt(rsq);
+  const Lane2 inv = 1.0 / dist;
+  const Lane2 nx = dx * inv, ny = dy * inv;  // from j to i
+  const Lane2 vrx = Lane2{vx[i0], vx[i1]} - Lane2{vx[j0], vx[j1]};
+  const Lane2 vry = Lane2{vy[i0], vy[i1]} - Lane2{vy[j0], vy[j1]};
+  const Lane2 vn = vrx * nx + vry * ny;
+  // Relative velocity of the contact points: v_i - v_j - (r_i w_i + r_j w_j) (z x n).
+  const Lane2 spin = ri * Lane2{w[i0], w[i1]} + rj * Lane2{w[j0], w[j1]};
+  const Lane2 vtx = vrx - vn * nx + spin * ny;
+  const Lane2 vty = vry - vn * ny - spin * nx;
+  const Lane2 meff = {p0.effective_mass, p1.effective_mass};
+  const Lane2 fn = c.kn * (radsum - dist) - meff * c.gn * vn;
+  // Tangential: as tangential_force().
+  const TangentialConstants& t = c.tangential;
+  Lane2 sx = Lane2{p0.shear_x, p1.shear_x} + vtx * t.dt;
+  Lane2 sy = Lane2{p0.shear_y, p1.shear_y} + vty * t.dt;
+  const Lane2 sn = sx * nx + sy * ny;
+  sx -= sn * nx;
+  sy -= sn * ny;
+  const Lane2 damp = meff * t.damping;
+  Lane2 ftx = -(t.stiffness * sx + damp * vtx);
+  Lane2 fty = -(t.stiffness * sy + damp * vty);
+  const Lane2 ft2 = ftx * ftx + fty * fty;
+  const Lane2 limit = t.friction * lane_abs(fn);
+  const Mask2 sliding = ft2 > limit * limit;
+  const Lane2 ratio = limit / lane_sqrt(ft2);
+  const Lane2 lag = damp / t.stiffness;
+  sx = sliding ? ratio * (sx + lag * vtx) - lag * vtx : sx;
+  sy = sliding ? ratio * (sy + lag * vty) - lag * vty : sy;
+  ftx = sliding ? ftx * ratio : ftx;
+  fty = sliding ? fty * ratio : fty;
+  PairLaneForces out;
+  out.fx = fn * nx + ftx;
+  out.fy = fn * ny + fty;
+  const Lane2 cross = nx * fty - ny * ftx;  // (n x F_t)_z
+  out.torque_i = ri * cross;
+  out.torque_j = rj * cross;
+  out.shear_x = sx;
+  out.shear_y = sy;
+  return out;
 }
 }  // namespace
 
 void Dem2dWorld::compute_forces() {
   const ContactParameters& c = settings_.contact;
-  const double dt = settings_.time_step_s;
+  const TangentialConstants tc{c.tangential_stiffness, c.tangential_damping, c.friction, settings_.time_step_s};
   const double kn = c.normal_stiffness;
   const double gn = c.normal_damping;
   double* __restrict fx = fx_.data();
@@ -280,56 +399,50 @@ void Dem2dWorld::compute_forces() {
   const double* __restrict vy = vy_.data();
   const double* __restrict w = omega_.data();
   const double* __restrict r = radius_.data();
-  for (std::size_t i = 0; i < count_; ++i) {
-    fx[i] = weight_x_[i];
-    fy[i] = weight_y_[i];
-    tq[i] = 0.0;
-  }
-  // Pairs are grouped by their first disc: its force and torque are summed in registers and
-  // stored once, so consecutive pairs do not wait on each other's stores to disc i.
+  // fx, fy, torque hold the weights (kick_and_drift reset them).
+  // Pass 1, without branches: the pairs in contact, in list order; the others lose their
+  // tangential history (as LAMMPS).
   Pair* __restrict pairs = pairs_.data();
-  for (std::size_t i = 0; i < count_; ++i) {
-    const std::uint32_t begin = first_pair_[i], end = first_pair_[i + 1];
-    if (begin == end) continue;
-    const double xi = x[i], yi = y[i], vxi = vx[i], vyi = vy[i], rwi = r[i] * w[i], ri = r[i];
-    double fxi = 0, fyi = 0, tqi = 0;
-    for (std::uint32_t k = begin; k < end; ++k) {
-      Pair& p = pairs[k];
-      const std::uint32_t j = p.j;
-      const double dx = xi - x[j];
-      const double dy = yi - y[j];
-      const double rsq = dx * dx + dy * dy;
-      const double radsum = ri + r[j];
-      if (rsq >= radsum * radsum) {
-        p.shear_x = 0.0;  // out of contact: the history ends (as LAMMPS)
-        p.shear_y = 0.0;
-        continue;
-      }
-      const double dist = std::sqrt(rsq);
-      const double inv = 1.0 / dist;
-      const double nx = dx * inv, ny = dy * inv;  // from j to i
-      const double vrx = vxi - vx[j];
-      const double vry = vyi - vy[j];
-      const double vn = vrx * nx + vry * ny;
-      // Relative velocity of the contact points: v_i - v_j - (r_i w_i + r_j w_j) (z x n).
-      const double spin = rwi + r[j] * w[j];
-      const double vtx = vrx - vn * nx + spin * ny;
-      const double vty = vry - vn * ny - spin * nx;
-      const double fn = kn * (radsum - dist) - p.effective_mass * gn * vn;
-      const TangentialResult ft = tangential_force(p.shear_x, p.shear_y, vtx, vty, nx, ny, fn, p.effective_mass, c, dt);
-      const double fxx = fn * nx + ft.fx;
-      const double fyy = fn * ny + ft.fy;
-      fxi += fxx;
-      fyi += fyy;
-      fx[j] -= fxx;
-      fy[j] -= fyy;
-      const double cross = nx * ft.fy - ny * ft.fx;  // (n x F_t)_z
-      tqi -= ri * cross;
-      tq[j] -= r[j] * cross;
-    }
-    fx[i] += fxi;
-    fy[i] += fyi;
-    tq[i] += tqi;
+  std::uint32_t* __restrict touching = touching_.data();
+  const std::size_t pair_total = pairs_.size();
+  std::size_t touching_count = 0;
+  for (std::size_t k = 0; k < pair_total; ++k) {
+    Pair& p = pairs[k];
+    const double dx = x[p.i] - x[p.j];
+    const double dy = y[p.i] - y[p.j];
+    const double radsum = r[p.i] + r[p.j];
+    const bool in_contact = dx * dx + dy * dy < radsum * radsum;
+    touching[touching_count] = static_cast<std::uint32_t>(k);
+    touching_count += in_contact ? 1 : 0;
+    p.shear_x = in_contact ? p.shear_x : 0.0;
+    p.shear_y = in_contact ? p.shear_y : 0.0;
+  }
+  // Pass 2: the contact forces of two pairs at a time (one per SIMD lane; each lane does the
+  // scalar arithmetic, so the result does not depend on the lane width), then added to both
+  // discs of the first pair, then of the second: the same order as one pair at a time.
+  const PairLaneConstants lc{kn, gn, tc};
+  for (std::size_t t = 0; t < touching_count; t += 2) {
+    const bool second = t + 1 < touching_count;
+    Pair& p0 = pairs[touching[t]];
+    Pair& p1 = pairs[touching[second ? t + 1 : t]];
+    const PairLaneForces f = pair_lane_forces(p0, p1, x, y, vx, vy, w, r, lc);
+    p0.shear_x = f.shear_x[0];
+    p0.shear_y = f.shear_y[0];
+    fx[p0.i] += f.fx[0];
+    fy[p0.i] += f.fy[0];
+    tq[p0.i] -= f.torque_i[0];
+    fx[p0.j] -= f.fx[0];
+    fy[p0.j] -= f.fy[0];
+    tq[p0.j] -= f.torque_j[0];
+    if (!second) break;
+    p1.shear_x = f.shear_x[1];
+    p1.shear_y = f.shear_y[1];
+    fx[p1.i] += f.fx[1];
+    fy[p1.i] += f.fy[1];
+    tq[p1.i] -= f.torque_i[1];
+    fx[p1.j] -= f.fx[1];
+    fy[p1.j] -= f.fy[1];
+    tq[p1.j] -= f.torque_j[1];
   }
   for (auto& f : wall_force_) f = Force2{};
   for (WallContact& wc : wall_contacts_) {
@@ -352,7 +465,7 @@ void Dem2dWorld::compute_forces() {
     const double vtx = vx[i] - vn * nx + spin * ny;
     const double vty = vy[i] - vn * ny - spin * nx;
     const double fn = kn * (r[i] - dist) - meff * gn * vn;
-    const TangentialResult ft = tangential_force(wc.shear_x, wc.shear_y, vtx, vty, nx, ny, fn, meff, c, dt);
+    const TangentialResult ft = tangential_force(wc.shear_x, wc.shear_y, vtx, vty, nx, ny, fn, meff, tc);
     const double fxx = fn * nx + ft.fx;
     const double fyy = fn * ny + ft.fy;
     fx[i] += fxx;
@@ -368,36 +481,102 @@ void Dem2dWorld::compute_forces() {
   }
 }
 
-void Dem2dWorld::half_kick() {
-  const double h = 0.5 * settings_.time_step_s;
+void Dem2dWorld::finish_half_kick() {
+  if (!half_kick_pending_) return;
+  const double h = half_step();
   for (std::size_t i = 0; i < count_; ++i) {
     vx_[i] += h * fx_[i] * inv_mass_[i];
     vy_[i] += h * fy_[i] * inv_mass_[i];
     omega_[i] += h * torque_[i] * inv_inertia_[i];
   }
+  half_kick_pending_ = false;
 }
 
-void Dem2dWorld::drift() {
+void Dem2dWorld::kick_and_drift() {
+  const double h = half_step();
   const double dt = settings_.time_step_s;
-  double fastest_squared = 0;
-  for (std::size_t i = 0; i < count_; ++i) {
-    x_[i] += dt * vx_[i];
-    y_[i] += dt * vy_[i];
-    fastest_squared = std::max(fastest_squared, vx_[i] * vx_[i] + vy_[i] * vy_[i]);
+  const std::size_t n = count_;
+  double* __restrict x = x_.data();
+  double* __restrict y = y_.data();
+  double* __restrict vx = vx_.data();
+  double* __restrict vy = vy_.data();
+  double* __restrict w = omega_.data();
+  double* __restrict fx = fx_.data();
+  double* __restrict fy = fy_.data();
+  double* __restrict tq = torque_.data();
+  const double* __restrict im = inv_mass_.data();
+  const double* __restrict ii = inv_inertia_.data();
+  const double* __restrict wx = weight_x_.data();
+  const double* __restrict wy = weight_y_.data();
+  // Two discs per SIMD lane pair (the per-lane arithmetic is the scalar one), the odd one last.
+  const bool twice = half_kick_pending_;  // the last step's second half-kick, then this step's first
+  const auto load = [](const double* p) {
+    Lane2 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  const auto store = [](double* p, Lane2 v) { std::memcpy(p, &v, sizeof v); };
+  Lane2 fastest = {0.0, 0.0};
+  std::size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const Lane2 ax = h * load(fx + i) * load(im + i);
+    const Lane2 ay = h * load(fy + i) * load(im + i);
+    const Lane2 aw = h * load(tq + i) * load(ii + i);
+    Lane2 u = load(vx + i) + ax;
+    Lane2 v = load(vy + i) + ay;
+    Lane2 o = load(w + i) + aw;
+    if (twice) {
+      u += ax;
+      v += ay;
+      o += aw;
+    }
+    store(vx + i, u);
+    store(vy + i, v);
+    store(w + i, o);
+    store(x + i, load(x + i) + dt * u);
+    store(y + i, load(y + i) + dt * v);
+    const Lane2 speed_squared = u * u + v * v;
+    fastest = speed_squared > fastest ? speed_squared : fastest;
+    store(fx + i, load(wx + i));
+    store(fy + i, load(wy + i));
+    store(tq + i, Lane2{0.0, 0.0});
   }
+  double fastest_squared = std::max(fastest[0], fastest[1]);
+  for (; i < n; ++i) {
+    const double ax = h * fx[i] * im[i];
+    const double ay = h * fy[i] * im[i];
+    const double aw = h * tq[i] * ii[i];
+    double u = vx[i] + ax;
+    double v = vy[i] + ay;
+    double o = w[i] + aw;
+    if (twice) {
+      u += ax;
+      v += ay;
+      o += aw;
+    }
+    vx[i] = u;
+    vy[i] = v;
+    w[i] = o;
+    x[i] += dt * u;
+    y[i] += dt * v;
+    fastest_squared = std::max(fastest_squared, u * u + v * v);
+    fx[i] = wx[i];
+    fy[i] = wy[i];
+    tq[i] = 0.0;
+  }
+  half_kick_pending_ = false;
   travel_since_build_ += std::sqrt(fastest_squared) * dt;
 }
 
 void Dem2dWorld::step() {
   if (!lists_valid_) rebuild_lists();
   // Velocity Verlet: the forces of the previous step are in fx_, fy_, torque_.
-  half_kick();
-  drift();
+  kick_and_drift();
   // Two discs approach each other by at most twice the longest travel: rebuild before the skin
   // could be crossed.
   if (2.0 * travel_since_build_ > settings_.skin) rebuild_lists();
   compute_forces();
-  half_kick();
+  half_kick_pending_ = true;  // done by the next step's kick_and_drift (or finish_half_kick)
   ++steps_;
   time_ += settings_.time_step_s;
 }
@@ -406,7 +585,8 @@ double Dem2dWorld::kinetic_energy() const {
   double e = 0;
   for (std::size_t i = 0; i < count_; ++i) {
     if (inv_mass_[i] == 0.0) continue;
-    e += 0.5 * mass_[i] * (vx_[i] * vx_[i] + vy_[i] * vy_[i]) + 0.5 * omega_[i] * omega_[i] / inv_inertia_[i];
+    const double u = vx(i), v = vy(i), o = omega(i);
+    e += 0.5 * mass_[i] * (u * u + v * v) + 0.5 * o * o / inv_inertia_[i];
   }
   return e;
 }

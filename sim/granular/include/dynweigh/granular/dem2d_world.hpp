@@ -6,6 +6,14 @@
 //
 // Layout: structure of arrays for the per-disc hot data; pairs and wall contacts in flat arrays
 // reserved at set-up. step() neither allocates (while the reserved capacity holds) nor throws.
+// Contact forces in two passes: a branch-free pass lists the pairs in contact, then their forces
+// are computed two at a time in 2-wide SIMD lanes (per-lane scalar arithmetic) and added to the
+// discs in list order, so a run is bit-identical whatever the lane width or the skin (and the
+// library is built without FMA contraction, so the same on targets that have FMA).
+// The second half-kick of a step is done at the start of the next one, in the same pass as that
+// step's first half-kick and drift (bit-identical to doing it at the end: the same two roundings
+// in the same order); the velocity accessors add the pending half-kick on the fly, and every
+// set-up call applies it first.
 // Fixed discs (a wall built of discs, as in the peer silo) are never moved; the contact force on
 // them and on every wall segment is kept each step: that is the force on the scale.
 #include <cstdint>
@@ -71,9 +79,11 @@ class Dem2dWorld {
   std::size_t pair_count() const { return pairs_.size(); }
   double x(std::size_t i) const { return x_[i]; }
   double y(std::size_t i) const { return y_[i]; }
-  double vx(std::size_t i) const { return vx_[i]; }
-  double vy(std::size_t i) const { return vy_[i]; }
-  double omega(std::size_t i) const { return omega_[i]; }
+  double vx(std::size_t i) const { return half_kick_pending_ ? vx_[i] + half_step() * fx_[i] * inv_mass_[i] : vx_[i]; }
+  double vy(std::size_t i) const { return half_kick_pending_ ? vy_[i] + half_step() * fy_[i] * inv_mass_[i] : vy_[i]; }
+  double omega(std::size_t i) const {
+    return half_kick_pending_ ? omega_[i] + half_step() * torque_[i] * inv_inertia_[i] : omega_[i];
+  }
   double radius(std::size_t i) const { return radius_[i]; }
   double mass(std::size_t i) const { return mass_[i]; }
   bool fixed(std::size_t i) const { return inv_mass_[i] == 0.0; }
@@ -89,19 +99,25 @@ class Dem2dWorld {
   double potential_energy() const;
   double elastic_energy() const;
 
- private:
+ public:
+  // A contact candidate of the neighbour list (public only for the force kernel).
   struct Pair {
     std::uint32_t i, j;
     double effective_mass;
     double shear_x, shear_y;  // tangential history s
   };
+ private:
   struct WallContact {
     std::uint32_t i, wall;
     double shear_x, shear_y;
   };
 
-  void half_kick();
-  void drift();
+  double half_step() const { return 0.5 * settings_.time_step_s; }
+  // Applies the pending second half-kick of the last step (before any change of the set-up).
+  void finish_half_kick();
+  // Kicks (twice if the last step's second half-kick is pending), drifts, and resets the
+  // forces to the weights: one pass over the discs.
+  void kick_and_drift();
   void compute_forces();
   void rebuild_lists();
   void compact(std::vector<std::int32_t>& new_index);
@@ -116,6 +132,7 @@ class Dem2dWorld {
   std::int64_t removed_ = 0;
   std::int64_t rebuilds_ = 0;
   bool lists_valid_ = false;
+  bool half_kick_pending_ = false;
   bool grid_configured_ = false;
   double travel_since_build_ = 0;  // upper bound of any disc's displacement since the last build
   double max_radius_ = 0;
@@ -130,7 +147,7 @@ class Dem2dWorld {
   std::vector<std::uint32_t> fixed_list_;
 
   std::vector<Pair> pairs_, old_pairs_;  // sorted by (i, j), i < j
-  std::vector<std::uint32_t> first_pair_;  // pairs of disc i: [first_pair_[i], first_pair_[i+1])
+  std::vector<std::uint32_t> touching_;    // indices of the pairs in contact this step (scratch)
   std::vector<WallContact> wall_contacts_, old_wall_contacts_;
   std::vector<std::uint32_t> scratch_;
   std::vector<std::int32_t> new_index_;
