@@ -74,10 +74,14 @@ TEST(Dose, DefaultIsTheModelStrategy) {
   EXPECT_EQ(field(lines_of(c.run({"dose 3000"}))[0], "strategy"), "model");
 }
 
-TEST(Dose, StrategiesNotInThisBuildAreRefusedWithTheValveClosed) {
-  ConsoleSession c;
-  EXPECT_EQ(c.run({"dose 3000 learn"}), "ERR 2 strategy not in this build\n");
-  EXPECT_EQ(c.session().last_row().valve, 0);
+TEST(Dose, EveryStrategyOfTheSpecDoses) {
+  for (const char* strategy : {"model", "preact", "twostage", "learn"}) {
+    ConsoleSession c;
+    const auto lines = lines_of(c.run({std::string("dose 3000 ") + strategy}));
+    ASSERT_EQ(lines.size(), 2u) << strategy;
+    EXPECT_EQ(field(lines[0], "strategy"), strategy);
+    EXPECT_EQ(c.session().last_row().valve, 0);
+  }
 }
 
 }  // namespace

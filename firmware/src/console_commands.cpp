@@ -31,6 +31,8 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_param},
     {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
     {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
+    {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them all (persists)",
+     &Indicator::command_learn},
     {"help", "help  this list", &Indicator::command_help},
     {"version", "version  firmware version", &Indicator::command_version},
 };
@@ -143,7 +145,7 @@ void Indicator::command_dose(const Arguments& args) {
   if (filtered_weight_g() + tare_g_ + float(target) > p.get(ParameterId::capacity_g)) {
     return error(2, "target exceeds the scale's capacity");
   }
-  dosing_.start(std::int32_t(target), strategy, filtered_weight_g());
+  dosing_.start(std::int32_t(target), strategy, filtered_weight_g(), &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();
 }
@@ -268,6 +270,32 @@ void Indicator::command_clearfault(const Arguments& args) {
   fault_ = Fault::none;
   stale_jiffies_ = 0;
   manual_valve_ = ValveCommand::closed;
+  ok();
+}
+
+void Indicator::command_learn(const Arguments& args) {
+  if (args.count == 2 && std::strcmp(args.word[1], "reset") == 0) {
+    if (reject_if_busy()) return;
+    settings_.learning.reset();
+    settings_changed_ = true;
+    return ok();
+  }
+  if (args.count != 1) return error(2, "usage: learn [reset]");
+  for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
+    const LearningTable::Entry& e = settings_.learning.entry(i);
+    if (!e.used) continue;
+    console_.write("LEARN target_bucket=");
+    console_.write_int(e.key.target_bucket);
+    console_.write(" fall_bucket=");
+    console_.write_int(e.key.fall_bucket);
+    console_.write(" flow_bucket=");
+    console_.write_int(e.key.flow_bucket);
+    console_.write(" correction_g=");
+    console_.write_decimal(e.correction_g, 1);
+    console_.write(" fills=");
+    console_.write_int(e.fills);
+    console_.put('\n');
+  }
   ok();
 }
 

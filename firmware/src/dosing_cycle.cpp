@@ -29,8 +29,11 @@ void DosingCycle::configure(const Parameters& p) {
                     std::uint32_t(p.get(ParameterId::stable_ms) / p.get(ParameterId::jiffy_ms)));
 }
 
-void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g) {
+void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g,
+                        const LearningTable* learning) {
   result_ = DoseResult{};
+  learning_ = learning;
+  learning_key_ = LearningKey{};
   result_.target_g = target_g;
   result_.strategy = strategy;
   start_weight_g_ = start_weight_g;
@@ -48,6 +51,11 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, float st
 bool DosingCycle::decide_model(float net_weight_g) {
   const float target = float(result_.target_g);
   last_prediction_g_ = model_.observe(net_weight_g);
+  if (result_.strategy == DosingStrategy::learn && learning_ && model_.measuring()) {
+    learning_key_ = make_learning_key(target, model_.fall_height_m(start_weight_g_ + target),
+                                      model_.measured_flow_kg_s());
+    last_prediction_g_ += learning_->correction_g(learning_key_);
+  }
   const float growth = model_.growth_per_jiffy_g();
   // The speed knob: a half-open fine feed for the last model_fine_s of full flow. Less material
   // in flight means less of the flow's fluctuation left unobserved at the close.

@@ -105,6 +105,10 @@ float ModelCutoff::observe(float net_weight_g) {
   return 1000.0f * prediction.final_kg - start_weight_g_;
 }
 
+float ModelCutoff::fall_height_m(float net_weight_g) const {
+  return model::fall_height_to_pile_m(geometry_.pile, geometry_.orifice_to_floor_m, net_weight_g / 1000.0f);
+}
+
 float ModelCutoff::settle_delay_s() const {
   return geometry_.closing_flow_seconds + last_fall_time_s_;
 }

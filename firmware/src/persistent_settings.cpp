@@ -1,12 +1,13 @@
 #include "dynweigh/firmware/persistent_settings.hpp"
 
+#include <cmath>
 #include <cstring>
 
 namespace dynweigh::firmware {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
-constexpr std::uint16_t kVersion = 1;
+constexpr std::uint16_t kVersion = 2;  // 2: the learning table
 
 void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
@@ -56,6 +57,18 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
   // Flags live in the top bits of the parameter count's pad byte to keep the body float-aligned.
   out[7] = std::uint8_t((settings.calibration.zero_set ? 1 : 0) | (settings.calibration.span_set ? 2 : 0));
   for (std::size_t i = 0; i < kParameterCount; ++i) put_f32(body + 8 + 4 * i, settings.parameters.raw()[i]);
+  std::uint8_t* table = body + 8 + 4 * kParameterCount;
+  for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
+    const LearningTable::Entry& e = settings.learning.entry(i);
+    std::uint8_t* p = table + kLearningEntryBytes * i;
+    p[0] = e.used ? 1 : 0;
+    p[1] = e.key.target_bucket;
+    p[2] = e.key.fall_bucket;
+    p[3] = e.key.flow_bucket;
+    put_f32(p + 4, e.correction_g);
+    p[8] = std::uint8_t(e.fills);
+    p[9] = std::uint8_t(e.fills >> 8);
+  }
   put_u32(out + 12, crc32(out + 16, kSettingsRecordSize - 16) ^ crc32(out, 12));
   return kSettingsRecordSize;
 }
@@ -75,6 +88,16 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   for (std::size_t i = 0; i < kParameterCount; ++i) {
     // A value outside today's range (an older firmware's table) falls back to the default.
     decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 8 + 4 * i));
+  }
+  const std::uint8_t* table = body + 8 + 4 * kParameterCount;
+  for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
+    const std::uint8_t* p = table + kLearningEntryBytes * i;
+    LearningTable::Entry& e = decoded.learning.entry(i);
+    e.used = p[0] == 1;
+    e.key = {p[1], p[2], p[3]};
+    e.correction_g = get_f32(p + 4);
+    e.fills = std::uint16_t(p[8] | (p[9] << 8));
+    if (!e.used || !std::isfinite(e.correction_g)) e = LearningTable::Entry{};
   }
   settings = decoded;
   return true;

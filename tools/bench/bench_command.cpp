@@ -132,7 +132,7 @@ int run_bench_command(int argc, char** argv) {
     if (std::string(argv[i]) == "--sim") return run_sim_bench(argc, argv);
 #endif
   }
-  std::string strategies = "model,preact,twostage,twostage-dyn,oracle";
+  std::string strategies = "model,learn,preact,twostage,twostage-dyn,oracle";
   std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png;
   std::uint32_t seeds = 50;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
@@ -140,7 +140,7 @@ int run_bench_command(int argc, char** argv) {
   CLI::App app{"dynweigh bench: strategies x scenes x targets x seeds, closed loop through Indicator::step, judged\n"
                "by the plant's true mass. `--step`: Google Benchmark of Indicator::step. `--sim`: the plant's\n"
                "speed and accuracy per scene."};
-  app.add_option("--strategies", strategies, "model,preact,twostage,twostage-dyn,oracle")->capture_default_str();
+  app.add_option("--strategies", strategies, "model,learn,preact,twostage,twostage-dyn,oracle")->capture_default_str();
   app.add_option("--scenes", scene_list, "scenes and scenarios (default: every dosing scene, geometry-off-15, "
                                           "material-change)");
   app.add_option("--targets", targets, "targets in grams")->capture_default_str();
@@ -173,7 +173,9 @@ int run_bench_command(int argc, char** argv) {
       const bool two_stage = strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
       std::vector<double> knobs{0.0};
       if (two_stage) knobs = sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5} : std::vector<double>{1.0};
-      if (strategy == BenchStrategy::model && sweep) knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
+      if ((strategy == BenchStrategy::model || strategy == BenchStrategy::learn) && sweep) {
+        knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
+      }
       for (double knob : knobs) {
         for (std::size_t s = 0; s < scenarios.size(); ++s) {
           for (const auto& t : split(targets)) {

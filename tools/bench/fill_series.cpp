@@ -21,7 +21,7 @@ constexpr std::uint64_t kTrialSeedBase = 900000;      // the engineer's trial fi
 constexpr std::uint32_t kTrialFills = 5;
 constexpr std::uint32_t kWarmUpFills = 5;             // adaptive strategies learn before we measure
 
-const char* const kNames[] = {"model", "preact", "twostage", "twostage-dyn", "oracle"};
+const char* const kNames[] = {"model", "preact", "twostage", "twostage-dyn", "oracle", "learn"};
 
 struct Fill {
   bool ok = false;
@@ -55,6 +55,7 @@ const char* firmware_strategy(BenchStrategy strategy) {
     case BenchStrategy::preact: return "preact";
     case BenchStrategy::twostage:
     case BenchStrategy::twostage_dyn: return "twostage";
+    case BenchStrategy::learn: return "learn";
     default: return "model";
   }
 }
@@ -162,7 +163,7 @@ void tune_preact(const Scenario& scenario, BenchStrategy strategy, double target
 const char* bench_strategy_name(BenchStrategy strategy) { return kNames[static_cast<int>(strategy)]; }
 
 bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy) {
-  for (int i = 0; i < 5; ++i) {
+  for (int i = 0; i < 6; ++i) {
     if (name == kNames[i]) {
       strategy = static_cast<BenchStrategy>(i);
       return true;
@@ -197,14 +198,14 @@ SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::u
     const double band_g = spec.knob * reference.full_open_rate_kg_s() * 1000.0;
     settings.parameters.set(firmware::ParameterId::twostage_band_g, float(band_g));
   }
-  if (spec.strategy == BenchStrategy::model) {
+  if (spec.strategy == BenchStrategy::model || spec.strategy == BenchStrategy::learn) {
     settings.parameters.set(firmware::ParameterId::model_fine_s, float(spec.knob));
   }
   if (spec.strategy == BenchStrategy::twostage_dyn) {
     settings.parameters.set(firmware::ParameterId::certify, float(firmware::CertifyMode::dynamic));
   }
   if (spec.strategy == BenchStrategy::preact || two_stage) tune_preact(scenario, spec.strategy, spec.target_g, settings);
-  if (two_stage) {
+  if (two_stage || spec.strategy == BenchStrategy::learn) {
     for (std::uint32_t i = 0; i < kWarmUpFills; ++i) {
       indicator_fill(scenario.scene, kTrialSeedBase + 100 + i, spec.strategy, spec.target_g, settings);
     }

@@ -18,7 +18,7 @@ struct Scenario {
   bool material_change = false;   // halfway through a series the plant's material changes
 };
 
-enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle };
+enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle, learn };
 const char* bench_strategy_name(BenchStrategy strategy);
 bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy);
 

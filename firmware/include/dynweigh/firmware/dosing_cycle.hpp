@@ -7,6 +7,7 @@
 
 #include "dynweigh/firmware/dosing_strategy.hpp"
 #include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/learning_table.hpp"
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
@@ -28,7 +29,9 @@ class DosingCycle {
   enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable };
 
   void configure(const Parameters& parameters);
-  void start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g);
+  // `learning` (the learn strategy's corrections) must outlive the dose; may be null otherwise.
+  void start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g,
+             const LearningTable* learning = nullptr);
   // One jiffy with the unfiltered and the filtered net weight (grams).
   Outcome step(float net_weight_g, float filtered_weight_g);
   void abort() { phase_ = Phase::idle; valve_ = ValveCommand::closed; }
@@ -41,6 +44,8 @@ class DosingCycle {
   const DoseResult& result() const { return result_; }
   // After a certified twostage fill: its preact corrected by half the error (capped).
   float adapted_twostage_preact_g() const { return twostage_preact_g_; }
+  // The kind of fill the learn strategy closed: where its residual belongs.
+  const LearningKey& learning_key() const { return learning_key_; }
 
  private:
   bool decide_model(float net_weight_g);
@@ -68,6 +73,8 @@ class DosingCycle {
   ValveCommand valve_ = ValveCommand::closed;
   std::uint8_t valve_delay_100us_ = 0;
   DoseResult result_;
+  const LearningTable* learning_ = nullptr;
+  LearningKey learning_key_;
   float start_weight_g_ = 0.0f;
   float last_prediction_g_ = 0.0f;
   std::uint32_t jiffies_ = 0;

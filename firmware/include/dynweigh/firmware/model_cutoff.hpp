@@ -26,6 +26,9 @@ class ModelCutoff {
   // Seconds from the close command until the last grain has landed.
   float settle_delay_s() const;
   bool measuring() const { return fit_.count() >= kMinimumFitSamples; }
+  float measured_flow_kg_s() const { return growth_per_jiffy_g_ / (1000.0f * jiffy_s_); }
+  // Orifice to pile top once `net_weight_g` is on the scale (the learning table's key).
+  float fall_height_m(float net_weight_g) const;
 
   // The valve goes to half: the flow, the open area and the let-through change, so the fit starts
   // again once the half-open stream has reached the pile. Until then the prediction at the switch

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "dynweigh/firmware/learning_table.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
 namespace dynweigh::firmware {
@@ -19,9 +20,12 @@ struct Calibration {
 struct PersistentSettings {
   Calibration calibration;
   Parameters parameters;
+  LearningTable learning;
 };
 
-inline constexpr std::size_t kSettingsRecordSize = 16 + 8 + 4 * kParameterCount;
+inline constexpr std::size_t kLearningEntryBytes = 12;
+inline constexpr std::size_t kSettingsRecordSize =
+    16 + 8 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries;
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 
