@@ -14,6 +14,7 @@
 #include "dynweigh/granular/outflow_profile.hpp"
 #include "dynweigh/granular/silo2d.hpp"
 #include "granular_commands.hpp"
+#include "progress_bar.hpp"
 
 namespace dynweigh::tools {
 
@@ -28,6 +29,7 @@ int run_dem_command(int argc, char** argv) {
   long long steps = 600000;
   long long fill_steps = 120000;
   long long sample_every = 2000;
+  bool quiet = false;
   unsigned long long seed = 58271;
   double container_drop = 0;
   long long stop_below_option = -1;
@@ -41,6 +43,7 @@ int run_dem_command(int argc, char** argv) {
   app.add_option("--steps", steps, "discharge steps at most (stops earlier when 36 % of the discs left)")->check(CLI::NonNegativeNumber);
   app.add_option("--fill-steps", fill_steps, "settling steps with the orifice closed (peer: 120000)")->check(CLI::NonNegativeNumber);
   app.add_option("--stop-below", stop_below_option, "stop when fewer discs than this are above the bottom (peer: 2300; default 2300/3612 of the fill)")->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet", quiet, "no progress bar");
   app.add_option("--sample-every", sample_every, "steps between counts of the discs left")->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "seed of the disc diameters");
   app.add_option("--container-drop", container_drop, "put a container bottom (the scale) this far below the orifice")->check(CLI::NonNegativeNumber);
@@ -72,7 +75,10 @@ int run_dem_command(int argc, char** argv) {
   const std::clock_t fill_cpu_start = std::clock();
   const auto fill_start = std::chrono::steady_clock::now();
   double fill_particle_steps = 0;
+  dynweigh::tools::ProgressBar bar("dem", static_cast<std::uint64_t>(fill_steps + steps), !quiet);
+  constexpr long long kProgressEvery = 1024;  // the bar reads the clock; not every step
   for (long long s = 0; s < fill_steps; ++s) {
+    if (s % kProgressEvery == 0) bar.update(static_cast<std::uint64_t>(s));
     world.step();
     fill_particle_steps += static_cast<double>(world.size());
   }
@@ -100,6 +106,7 @@ int run_dem_command(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   long long done = 0;
   while (done < steps) {
+    if (done % kProgressEvery == 0) bar.update(static_cast<std::uint64_t>(fill_steps + done));
     world.step();
     ++done;
     result.particle_steps += static_cast<double>(world.size());
@@ -126,6 +133,7 @@ int run_dem_command(int argc, char** argv) {
   result.steps = done;
   fit_discharge_rates(result, 0.1);
   const auto rate_of = [](double work, double time) { return time > 0 ? work / time : 0.0; };
+  bar.finish();
   std::printf("scene=silo2d\norifice=%d\nparticles=%d\nfill_steps=%lld\nfill_particle_steps=%.6g\n"
               "fill_seconds=%.3f\nfill_cpu_seconds=%.3f\nfill_particle_steps_per_s=%.4g\nfill_particle_steps_per_cpu_s=%.4g\n"
               "fill_list_rebuilds=%lld\n",
