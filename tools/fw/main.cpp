@@ -13,6 +13,7 @@
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
+#include "dynweigh/hal/host/tty_console.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "can_plant_loop.hpp"
 #include "trace_csv.hpp"
@@ -66,17 +67,27 @@ int run(const Options& options) {
   if (!options.csv.empty()) csv = std::make_unique<tools::TraceCsv>(options.csv);
   hal::host::HostClock clock(options.realtime);
 
-  if (options.console == "pty") {
-    hal::host::PtyConsole console;
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
+  // A serial line (a pty we make, or a device): idle and silent, the plant follows the wall clock;
+  // busy, it runs ahead in lockstep unless --realtime.
+  const auto serve = [&](auto& console) {
     for (bool busy = false;;) {
-      // Idle and silent: follow the wall clock; busy: run ahead (lockstep) unless --realtime.
       if (!busy && !options.realtime) console.wait_for_input(10);
       busy = step(console).busy;
       if (csv) csv->write(session.last_row());
       clock.wait_next_jiffy();
     }
+  };
+  if (options.console == "pty") {
+    hal::host::PtyConsole console;
+    std::printf("console=%s\n", console.device_path().c_str());
+    std::fflush(stdout);
+    serve(console);
+  }
+  if (options.console != "stdio") {
+    hal::host::TtyConsole console(options.console);
+    std::printf("console=%s\n", console.device_path().c_str());
+    std::fflush(stdout);
+    serve(console);
   }
 
   hal::host::ScriptedConsole console(
@@ -104,7 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--plant", options.plant, "sim[:<scene>] (in-process plant, lockstep) or can:<transport>")
       ->capture_default_str();
   app.add_option("--console", options.console, "stdio or pty (prints console=<device>)")
-      ->check(CLI::IsMember({"stdio", "pty"}))
+      ->check(CLI::IsMember({"stdio", "pty"}) | CLI::ExistingPath)
       ->capture_default_str();
   app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time");
   app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
