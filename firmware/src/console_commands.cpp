@@ -269,6 +269,7 @@ void Indicator::command_clearfault(const Arguments& args) {
   if (args.count != 1) return error(2, "usage: clearfault");
   fault_ = Fault::none;
   stale_jiffies_ = 0;
+  supervisor_.reset();  // a cause still present is found again from scratch
   manual_valve_ = ValveCommand::closed;
   ok();
 }

@@ -11,6 +11,12 @@ const char* fault_name(Fault fault) {
     case Fault::stale_sample: return "stale_sample";
     case Fault::dose_timeout: return "dose_timeout";
     case Fault::never_stable: return "never_stable";
+    case Fault::sample_jump: return "sample_jump";
+    case Fault::valve_stuck_open: return "valve_stuck_open";
+    case Fault::valve_stuck_closed: return "valve_stuck_closed";
+    case Fault::no_flow: return "no_flow";
+    case Fault::flow_after_close: return "flow_after_close";
+    case Fault::sensor_frozen: return "sensor_frozen";
   }
   return "unknown";
 }

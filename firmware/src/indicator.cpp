@@ -18,6 +18,7 @@ void Indicator::apply_parameters() {
   filter_.configure(p.filter(), p.get(ParameterId::filter_hz), p.get(ParameterId::jiffy_ms) / 1000.0f);
   if (has_sample_) filter_.reset(filtered_counts_);  // otherwise the first sample primes it
   dosing_.configure(p);
+  supervisor_.configure(p);
 }
 
 float Indicator::filtered_weight_g() const {
@@ -61,6 +62,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   settings_changed_ = false;
   receive_console(inputs);
   process_sample(inputs.load_cell);
+  supervise(inputs);
   execute_queued_commands();
   advance_dose();
   const ValveCommand scheduled = advance_test_cycle();
@@ -129,18 +131,39 @@ void Indicator::process_sample(const LoadCellInput& sample) {
   if (sample.status & kLoadCellOverload) raise(Fault::overload);
   if (sample.status & kLoadCellUnderload) raise(Fault::underload);
   raw_counts_ = float(sample.raw_counts);
+  Fault jump = Fault::none;
+  screened_counts_ = supervisor_.screen_sample(
+      raw_counts_, settings_.calibration.valid() ? settings_.calibration.counts_per_gram : 0.0f,
+      dosing_.phase() != DosingCycle::Phase::idle, jump);
+  if (jump != Fault::none) raise(jump);
   has_sample_ = true;
-  filtered_counts_ = filter_.push(raw_counts_);
+  filtered_counts_ = filter_.push(screened_counts_);
   if (settings_.calibration.valid() &&
       filtered_weight_g() + tare_g_ > settings_.parameters.get(ParameterId::capacity_g) + kOverloadMarginG) {
     raise(Fault::overload);
   }
 }
 
+// The fault supervisor's watch over valve, flow and sensor, before any command of this jiffy: a
+// fault it finds closes the valve in this jiffy's outputs.
+void Indicator::supervise(const Inputs& inputs) {
+  FaultSupervisor::Observation o;
+  o.command_in_force = valve_;
+  o.position = inputs.valve_position;
+  o.dose_flowing = dosing_.phase() == DosingCycle::Phase::dosing;
+  o.dose_running = dosing_.phase() != DosingCycle::Phase::idle;
+  o.fresh_sample = inputs.load_cell.fresh;
+  o.raw_counts = float(inputs.load_cell.raw_counts);
+  o.counts_per_gram = settings_.calibration.valid() ? settings_.calibration.counts_per_gram : 0.0f;
+  o.filtered_g = filtered_weight_g();
+  const Fault found = supervisor_.watch(o);
+  if (found != Fault::none) raise(found);
+}
+
 void Indicator::advance_dose() {
   if (dosing_.phase() == DosingCycle::Phase::idle) return;
   const Calibration& cal = settings_.calibration;
-  const float net_g = (raw_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
+  const float net_g = (screened_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
   switch (dosing_.step(net_g, filtered_weight_g())) {
     case DosingCycle::Outcome::running:
       return;

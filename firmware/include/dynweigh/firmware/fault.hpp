@@ -12,6 +12,13 @@ enum class Fault : std::uint8_t {
   stale_sample,   // no load-cell sample for 100 ms
   dose_timeout,   // a dose did not reach its target within dose_timeout_s
   never_stable,   // after the close the weight never settled
+  // The fault supervisor's (fault_supervisor.hpp):
+  sample_jump,         // samples kept jumping further than the scale can move in a jiffy
+  valve_stuck_open,    // commanded closed (or half), the feedback stays open
+  valve_stuck_closed,  // commanded open or half, the feedback stays closed
+  no_flow,             // a dose's valve open, the weight does not rise
+  flow_after_close,    // the weight keeps rising long after the close
+  sensor_frozen,       // the load cell repeats one value while the flow runs
 };
 
 const char* fault_name(Fault fault);

@@ -9,6 +9,7 @@
 #include "dynweigh/firmware/display_filter.hpp"
 #include "dynweigh/firmware/dosing_cycle.hpp"
 #include "dynweigh/firmware/fault.hpp"
+#include "dynweigh/firmware/fault_supervisor.hpp"
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
 #include "dynweigh/firmware/test_data_recorder.hpp"
@@ -31,6 +32,7 @@ class Indicator {
   float filtered_weight_g() const;
   float last_prediction_g() const { return dosing_.last_prediction_g(); }
   Fault fault() const { return fault_; }
+  const FaultSupervisor& supervisor() const { return supervisor_; }
   // A command is still running or queued: a scripted console waits before sending the next line.
   bool busy() const;
 
@@ -72,6 +74,7 @@ class Indicator {
   void execute(char* line);
   void process_sample(const LoadCellInput& sample);
   void raise(Fault fault);
+  void supervise(const Inputs& inputs);
   void advance_dose();
   ValveCommand advance_test_cycle();
   void continue_print();
@@ -98,6 +101,8 @@ class Indicator {
   std::uint32_t stale_jiffies_ = 0;
   std::uint16_t last_counter_ = 0;
   Fault fault_ = Fault::none;
+  FaultSupervisor supervisor_;
+  float screened_counts_ = 0.0f;  // the sample the filter and the dose use (outliers held out)
 
   DosingCycle dosing_;
   bool dose_command_pending_ = false;  // `dose` answers when it ends

@@ -1,0 +1,118 @@
+#pragma once
+// Watches the load cell, the valve and the flow once per jiffy and names what broke (issue 8).
+// The Indicator raises what it reports: the valve closes in the same jiffy, the fault latches.
+//
+// - Outliers: a sample further than kOutlierFractionOfCapacity x Max from the last good one moved
+//   faster than anything on the scale can: the largest physical step is the stream's impact
+//   (about 1.2 kg for the 60 mm bore falling 1.2 m, 2.4 kg/s x 4.9 m/s) and the 12 Hz platform
+//   swings on it by at most F x omega x jiffy (about 0.9 kg per 10 ms), well inside 5 % of 50 kg.
+//   Such a sample is rejected and the last good value held. While a dose runs, kOutlierFaultCount
+//   in a row raise `sample_jump`; otherwise two consistent samples confirm a new level (a load
+//   placed on the scale), taken one jiffy late.
+// - Valve feedback against the command: closing, after the dead time plus margin the valve must
+//   have left open, and within a generous multiple of dead time plus stroke it must report closed:
+//   else `valve_stuck_open` (within 100 ms for the default valve). Opening, a valve still reporting
+//   closed once the stream had time to land (dead time, stroke, fall, margin) while the weight did
+//   not rise, or stuck mid-stroke past the travel limit: `valve_stuck_closed`. Feedback reading
+//   closed while the weight rises is taken as missing feedback (open-loop replays), not a fault.
+//   A valve that closed and then reports moving with no command is stuck open after the travel limit.
+// - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
+//   (at the start or later: a silo run empty).
+// - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
+//   rate that moves them by many counts in that time.
+// - `flow_after_close`: after a dose's close, once dead time, stroke, the stream's fall time and a
+//   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s.
+#include <cstdint>
+
+#include "dynweigh/firmware/fault.hpp"
+#include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/parameters.hpp"
+
+namespace dynweigh::firmware {
+
+class FaultSupervisor {
+ public:
+  static constexpr float kOutlierFractionOfCapacity = 0.05f;
+  static constexpr std::uint32_t kOutlierFaultCount = 3;
+  static constexpr float kValveStartMarginMs = 40.0f;    // dead-time jitter, command delay in the jiffy
+  static constexpr float kValveTravelFactor = 3.0f;      // x (dead time + stroke): a slow valve passes
+  static constexpr float kValveTravelMarginMs = 100.0f;
+  static constexpr float kNoFlowWindowMs = 2000.0f;
+  static constexpr float kNoFlowRiseFractionOfCapacity = 0.0002f;  // 10 g on 50 kg
+  static constexpr float kNoFlowRiseMinG = 5.0f;
+  static constexpr float kFrozenMinCounts = 10.0f;       // the flow would have moved this many counts
+  static constexpr std::uint32_t kFrozenMinSamples = 5;
+  static constexpr float kRestMarginMs = 1000.0f;   // the display filter's ringing after the landing
+  static constexpr float kFlowAfterCloseWindowMs = 2000.0f;
+  static constexpr float kFlowAfterCloseRiseFractionOfCapacity = 0.002f;  // 100 g on 50 kg; settling rings +-30 g
+  static constexpr float kFlowAfterCloseRiseStableBands = 50.0f;
+
+  // Limits from the installation's parameters (capacity, jiffy, valve timing, fall height).
+  void configure(const Parameters& parameters);
+  // Forget all history (after `clearfault`, a restart).
+  void reset();
+
+  // The outlier screen: the counts to use this jiffy (the sample, or the last good one held).
+  // `strict` while a dose runs; `fault` is set to sample_jump when the rejections persist.
+  float screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault);
+  std::uint32_t rejected_samples() const { return rejected_total_; }
+
+  // What the supervisor needs to know about one jiffy, after the sample was processed.
+  struct Observation {
+    ValveCommand command_in_force = ValveCommand::closed;  // the command sent last jiffy
+    ValvePosition position = ValvePosition::closed;        // the valve's feedback now
+    bool dose_flowing = false;    // a dose is in its dosing phase
+    bool dose_running = false;    // a dose is dosing or settling
+    bool fresh_sample = false;
+    float raw_counts = 0.0f;      // the sample as it arrived
+    float counts_per_gram = 1.0f;
+    float filtered_g = 0.0f;
+  };
+  // Fault::none, or the first thing found wrong this jiffy.
+  Fault watch(const Observation& o);
+
+ private:
+  Fault watch_valve(const Observation& o);
+  Fault watch_flow(const Observation& o);
+  Fault watch_after_close(const Observation& o);
+
+  // Limits.
+  float capacity_g_ = 50000.0f;
+  float stable_band_g_ = 1.0f;
+  std::uint32_t valve_start_jiffies_ = 8;
+  std::uint32_t valve_travel_jiffies_ = 43;
+  std::uint32_t no_flow_jiffies_ = 200;
+  std::uint32_t rest_jiffies_ = 111;
+  std::uint32_t after_close_window_jiffies_ = 200;
+
+  // Outlier screen.
+  bool has_good_ = false;
+  float good_counts_ = 0.0f;
+  float last_rejected_counts_ = 0.0f;
+  std::uint32_t consecutive_rejected_ = 0;
+  std::uint32_t rejected_total_ = 0;
+
+  // Valve.
+  ValveCommand last_command_ = ValveCommand::closed;
+  std::uint32_t command_age_ = 0;  // jiffies since the command in force was first seen
+  bool closed_by_dose_ = false;    // the close in force ended a dose's flow
+  float open_reference_g_ = 0.0f;  // the weight when the command in force was given
+  bool reached_closed_ = false;    // the close in force was seen through to `closed`
+  std::uint32_t uncommanded_jiffies_ = 0;  // reported moving since, with no new command
+
+  // Flow.
+  bool flow_armed_ = false;
+  float flow_reference_g_ = 0.0f;
+  std::uint32_t flow_reference_age_ = 0;
+  float last_raw_counts_ = 0.0f;
+  std::uint32_t identical_samples_ = 0;
+  static constexpr std::uint32_t kHistory = 32;  // filtered weights of the last jiffies: the recent rate
+  float history_[kHistory] = {};
+  std::uint32_t history_head_ = 0;
+  std::uint32_t history_count_ = 0;
+
+  // After close.
+  float after_close_reference_g_ = 0.0f;
+};
+
+}  // namespace dynweigh::firmware

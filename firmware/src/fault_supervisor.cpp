@@ -1,0 +1,180 @@
+#include "dynweigh/firmware/fault_supervisor.hpp"
+
+#include <cmath>
+
+namespace dynweigh::firmware {
+namespace {
+
+constexpr float kGravity = 9.81f;
+
+std::uint32_t jiffies_for(float ms, float jiffy_ms) {
+  return std::uint32_t(std::ceil(ms / jiffy_ms));
+}
+
+}  // namespace
+
+void FaultSupervisor::configure(const Parameters& p) {
+  const float jiffy_ms = p.get(ParameterId::jiffy_ms);
+  const float dead_ms = p.get(ParameterId::valve_dead_ms);
+  const float stroke_ms = p.get(ParameterId::valve_stroke_ms);
+  const float fall_ms = 1000.0f * std::sqrt(2.0f * p.get(ParameterId::fall_mm) / 1000.0f / kGravity);
+  capacity_g_ = p.get(ParameterId::capacity_g);
+  stable_band_g_ = p.get(ParameterId::stable_band_g);
+  valve_start_jiffies_ = jiffies_for(dead_ms + kValveStartMarginMs, jiffy_ms) + 1;
+  valve_travel_jiffies_ =
+      jiffies_for(kValveTravelFactor * (dead_ms + stroke_ms) + kValveTravelMarginMs, jiffy_ms);
+  no_flow_jiffies_ = jiffies_for(kNoFlowWindowMs, jiffy_ms);
+  rest_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kRestMarginMs, jiffy_ms);
+  after_close_window_jiffies_ = jiffies_for(kFlowAfterCloseWindowMs, jiffy_ms);
+}
+
+void FaultSupervisor::reset() {
+  has_good_ = false;
+  consecutive_rejected_ = 0;
+  last_command_ = ValveCommand::closed;
+  command_age_ = 0;
+  closed_by_dose_ = false;
+  reached_closed_ = false;
+  uncommanded_jiffies_ = 0;
+  flow_armed_ = false;
+  identical_samples_ = 0;
+  history_count_ = 0;
+  history_head_ = 0;
+}
+
+float FaultSupervisor::screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault) {
+  fault = Fault::none;
+  const float bound_counts = kOutlierFractionOfCapacity * capacity_g_ * counts_per_gram;
+  if (!has_good_ || !(bound_counts > 0.0f) || std::fabs(raw_counts - good_counts_) <= bound_counts) {
+    has_good_ = true;
+    good_counts_ = raw_counts;
+    consecutive_rejected_ = 0;
+    return raw_counts;
+  }
+  ++rejected_total_;
+  ++consecutive_rejected_;
+  const bool consistent = consecutive_rejected_ >= 2 && std::fabs(raw_counts - last_rejected_counts_) <= bound_counts;
+  last_rejected_counts_ = raw_counts;
+  if (strict) {
+    if (consecutive_rejected_ >= kOutlierFaultCount) fault = Fault::sample_jump;
+    return good_counts_;
+  }
+  if (consistent) {  // a new level held for two samples: a load placed or taken off
+    good_counts_ = raw_counts;
+    consecutive_rejected_ = 0;
+  }
+  return good_counts_;
+}
+
+Fault FaultSupervisor::watch(const Observation& o) {
+  const Fault valve = watch_valve(o);
+  const Fault flow = watch_flow(o);
+  const Fault after = watch_after_close(o);
+  return valve != Fault::none ? valve : flow != Fault::none ? flow : after;
+}
+
+namespace {
+bool p_is_closed(ValvePosition p) { return p == ValvePosition::closed; }
+}  // namespace
+
+Fault FaultSupervisor::watch_valve(const Observation& o) {
+  if (o.command_in_force != last_command_) {
+    closed_by_dose_ = o.command_in_force == ValveCommand::closed && o.dose_running;
+    last_command_ = o.command_in_force;
+    command_age_ = 0;
+    open_reference_g_ = o.filtered_g;
+    reached_closed_ = false;
+    uncommanded_jiffies_ = 0;
+  }
+  if (command_age_ < 0xFFFFFFFFu) ++command_age_;
+  // Feedback that reads closed while the weight rises is wrong or absent (an open-loop replay, a
+  // board without the valve module's frame), not a closed valve: the flow rules watch that case.
+  // A closed valve is only stuck once the stream had time to land and nothing did.
+  const float rise_g = std::fmax(kNoFlowRiseMinG, kNoFlowRiseFractionOfCapacity * capacity_g_);
+  const bool flow_seen = o.filtered_g >= open_reference_g_ + rise_g;
+  const bool closed_too_long = p_is_closed(o.position) && command_age_ >= rest_jiffies_ && !flow_seen;
+  const bool started = command_age_ >= valve_start_jiffies_;
+  const bool travelled = command_age_ >= valve_travel_jiffies_;
+  const ValvePosition p = o.position;
+  switch (o.command_in_force) {
+    case ValveCommand::closed:
+      if (p == ValvePosition::closed) {
+        reached_closed_ = true;
+        uncommanded_jiffies_ = 0;
+        break;
+      }
+      if (!reached_closed_) {  // it never closed after the close: stuck open
+        if (started && (p == ValvePosition::open || p == ValvePosition::half)) return Fault::valve_stuck_open;
+        if (travelled) return Fault::valve_stuck_open;
+        break;
+      }
+      // Closed, then reporting movement with no command. Given the travel limit, since the feedback
+      // can arrive ahead of a command given in the same jiffy (open-loop replays of recorded valves).
+      if (++uncommanded_jiffies_ >= valve_travel_jiffies_) return Fault::valve_stuck_open;
+      break;
+    case ValveCommand::open:
+      if (closed_too_long) return Fault::valve_stuck_closed;
+      if (travelled && p != ValvePosition::open && p != ValvePosition::closed) return Fault::valve_stuck_closed;
+      break;
+    case ValveCommand::half:
+      if (closed_too_long) return Fault::valve_stuck_closed;
+      if (started && p == ValvePosition::open) return Fault::valve_stuck_open;
+      if (travelled && p != ValvePosition::half && p != ValvePosition::closed) {
+        return p == ValvePosition::open ? Fault::valve_stuck_open : Fault::valve_stuck_closed;
+      }
+      break;
+  }
+  return Fault::none;
+}
+
+Fault FaultSupervisor::watch_flow(const Observation& o) {
+  if (!o.dose_flowing || o.command_in_force == ValveCommand::closed) {
+    flow_armed_ = false;
+    return Fault::none;
+  }
+  if (!flow_armed_) {
+    flow_armed_ = true;
+    flow_reference_g_ = o.filtered_g;
+    flow_reference_age_ = 0;
+    identical_samples_ = 0;
+    history_count_ = 0;
+    history_head_ = 0;
+    last_raw_counts_ = o.raw_counts;
+  }
+  // no_flow: the weight must keep rising while the dose's valve is open.
+  const float rise_g = std::fmax(kNoFlowRiseMinG, kNoFlowRiseFractionOfCapacity * capacity_g_);
+  ++flow_reference_age_;
+  if (o.filtered_g >= flow_reference_g_ + rise_g) {
+    flow_reference_g_ = o.filtered_g;
+    flow_reference_age_ = 0;
+  }
+  if (flow_reference_age_ >= no_flow_jiffies_) return Fault::no_flow;
+
+  // sensor_frozen: identical raw counts while the recent flow would have moved them by many counts.
+  const float oldest_g = history_count_ == kHistory ? history_[history_head_] : o.filtered_g;
+  history_[history_head_] = o.filtered_g;
+  history_head_ = (history_head_ + 1) % kHistory;
+  if (history_count_ < kHistory) ++history_count_;
+  if (!o.fresh_sample) return Fault::none;
+  identical_samples_ = o.raw_counts == last_raw_counts_ ? identical_samples_ + 1 : 0;
+  last_raw_counts_ = o.raw_counts;
+  if (history_count_ < kHistory) return Fault::none;
+  const float rate_counts = (o.filtered_g - oldest_g) * o.counts_per_gram / float(kHistory);
+  if (!(rate_counts > 0.0f)) return Fault::none;
+  const float needed = std::fmax(float(kFrozenMinSamples), std::ceil(kFrozenMinCounts / rate_counts));
+  if (float(identical_samples_ + 1) >= needed) return Fault::sensor_frozen;
+  return Fault::none;
+}
+
+Fault FaultSupervisor::watch_after_close(const Observation& o) {
+  if (!closed_by_dose_ || o.command_in_force != ValveCommand::closed) return Fault::none;
+  if (command_age_ == rest_jiffies_) after_close_reference_g_ = o.filtered_g;
+  if (command_age_ <= rest_jiffies_ || command_age_ > rest_jiffies_ + after_close_window_jiffies_) {
+    return Fault::none;
+  }
+  const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
+                                 kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
+  return o.filtered_g > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
+}
+
+}  // namespace dynweigh::firmware

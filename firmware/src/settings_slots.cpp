@@ -1,0 +1,92 @@
+#include "dynweigh/firmware/settings_slots.hpp"
+
+namespace dynweigh::firmware {
+namespace {
+
+constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
+
+void put_u32(std::uint8_t* p, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+}
+std::uint32_t get_u32(const std::uint8_t* p) {
+  std::uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
+  return v;
+}
+std::uint32_t slot_crc(const std::uint8_t* slot) {
+  // Over sequence and length (bytes 4..11) and the payload.
+  return crc32(slot + 4, 8) ^ crc32(slot + kSlotHeaderSize, kSettingsRecordSize);
+}
+// Serial-number order (RFC 1982): `a` is newer than `b` even across the wrap of the counter.
+bool newer(std::uint32_t a, std::uint32_t b) { return std::int32_t(a - b) > 0; }
+
+}  // namespace
+
+std::size_t encode_slot(const PersistentSettings& settings, std::uint32_t sequence, std::uint8_t* out,
+                        std::size_t capacity) {
+  if (capacity < kSlotSize) return 0;
+  if (encode_settings(settings, out + kSlotHeaderSize, capacity - kSlotHeaderSize) != kSettingsRecordSize) {
+    return 0;
+  }
+  put_u32(out, kSlotMagic);
+  put_u32(out + 4, sequence);
+  put_u32(out + 8, std::uint32_t(kSettingsRecordSize));
+  put_u32(out + 12, slot_crc(out));
+  return kSlotSize;
+}
+
+bool decode_slot(const std::uint8_t* data, std::size_t length, PersistentSettings& settings,
+                 std::uint32_t& sequence) {
+  if (length < kSlotSize) return false;
+  if (get_u32(data) != kSlotMagic || get_u32(data + 8) != kSettingsRecordSize) return false;
+  if (get_u32(data + 12) != slot_crc(data)) return false;
+  PersistentSettings decoded;
+  if (!decode_settings(data + kSlotHeaderSize, kSettingsRecordSize, decoded)) return false;
+  settings = decoded;
+  sequence = get_u32(data + 4);
+  return true;
+}
+
+bool SettingsSlots::scan(PersistentSettings* settings) {
+  newest_ = -1;
+  sequence_ = 0;
+  if (nvm_.size() < kSettingsSlotsBytes) return false;
+  PersistentSettings newest_settings;
+  for (std::size_t slot = 0; slot < kSlotCount; ++slot) {
+    std::uint8_t image[kSlotSize];
+    if (!nvm_.read(slot * kSlotSize, image, kSlotSize)) continue;
+    PersistentSettings decoded;
+    std::uint32_t sequence = 0;
+    if (!decode_slot(image, kSlotSize, decoded, sequence)) continue;
+    if (newest_ < 0 || newer(sequence, sequence_)) {
+      newest_ = int(slot);
+      sequence_ = sequence;
+      newest_settings = decoded;
+    }
+  }
+  if (newest_ < 0) return false;
+  if (settings) *settings = newest_settings;
+  return true;
+}
+
+bool SettingsSlots::load(PersistentSettings& settings) { return scan(&settings); }
+
+bool SettingsSlots::save(const PersistentSettings& settings) {
+  if (nvm_.size() < kSettingsSlotsBytes) return false;
+  const bool any = scan(nullptr);
+  const std::size_t target = any ? std::size_t(1 - newest_) : 0;
+  const std::uint32_t sequence = any ? sequence_ + 1 : 1;
+  std::uint8_t image[kSlotSize];
+  if (encode_slot(settings, sequence, image, sizeof image) != kSlotSize) return false;
+  if (!nvm_.write(target * kSlotSize, image, kSlotSize)) return false;
+  std::uint8_t back[kSlotSize];
+  if (!nvm_.read(target * kSlotSize, back, kSlotSize)) return false;
+  for (std::size_t i = 0; i < kSlotSize; ++i) {
+    if (back[i] != image[i]) return false;
+  }
+  newest_ = int(target);
+  sequence_ = sequence;
+  return true;
+}
+
+}  // namespace dynweigh::firmware

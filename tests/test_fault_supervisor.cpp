@@ -1,0 +1,154 @@
+// The fault supervisor's rules one at a time, on hand-made observations.
+#include <gtest/gtest.h>
+
+#include "dynweigh/firmware/fault_supervisor.hpp"
+
+namespace dynweigh::firmware {
+namespace {
+
+FaultSupervisor configured() {
+  FaultSupervisor s;
+  s.configure(Parameters{});  // 50 kg Max, 10 ms jiffy, 30 ms dead time, 80 ms stroke
+  return s;
+}
+
+TEST(FaultSupervisor, SingleOutlierIsHeldAndTheNextGoodSampleAccepted) {
+  FaultSupervisor s = configured();
+  Fault f = Fault::none;
+  EXPECT_FLOAT_EQ(s.screen_sample(8000.0f, 1.0f, true, f), 8000.0f);
+  EXPECT_FLOAT_EQ(s.screen_sample(8000.0f + 2600.0f, 1.0f, true, f), 8000.0f);  // > 5 % of 50 kg
+  EXPECT_EQ(f, Fault::none);
+  EXPECT_FLOAT_EQ(s.screen_sample(8030.0f, 1.0f, true, f), 8030.0f);
+  EXPECT_FLOAT_EQ(s.screen_sample(8030.0f + 2400.0f, 1.0f, true, f), 8030.0f + 2400.0f);  // within
+  EXPECT_EQ(f, Fault::none);
+  EXPECT_EQ(s.rejected_samples(), 1u);
+}
+
+TEST(FaultSupervisor, ConsecutiveOutliersDuringADoseFault) {
+  FaultSupervisor s = configured();
+  Fault f = Fault::none;
+  s.screen_sample(8000.0f, 1.0f, true, f);
+  s.screen_sample(20000.0f, 1.0f, true, f);
+  EXPECT_EQ(f, Fault::none);
+  s.screen_sample(20000.0f, 1.0f, true, f);
+  EXPECT_EQ(f, Fault::none);
+  EXPECT_FLOAT_EQ(s.screen_sample(20000.0f, 1.0f, true, f), 8000.0f);
+  EXPECT_EQ(f, Fault::sample_jump);
+}
+
+TEST(FaultSupervisor, ANewLevelOutsideADoseIsConfirmedByTheNextSample) {
+  FaultSupervisor s = configured();
+  Fault f = Fault::none;
+  s.screen_sample(8000.0f, 1.0f, false, f);
+  EXPECT_FLOAT_EQ(s.screen_sample(18000.0f, 1.0f, false, f), 8000.0f);
+  EXPECT_FLOAT_EQ(s.screen_sample(18001.0f, 1.0f, false, f), 18001.0f);  // a 10 kg weight placed
+  EXPECT_EQ(f, Fault::none);
+}
+
+TEST(FaultSupervisor, ValveThatDoesNotLeaveOpenAfterCloseIsStuckOpenWithin100ms) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  o.position = ValvePosition::open;
+  for (int i = 0; i < 50; ++i) ASSERT_EQ(s.watch(o), Fault::none);
+  o.command_in_force = ValveCommand::closed;  // the close: the valve keeps reporting open
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 100) {
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::valve_stuck_open);
+  EXPECT_LE(jiffies, 10);
+}
+
+TEST(FaultSupervisor, ValveMovingThenClosedIsHealthy) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  for (int i = 0; i < 30; ++i) {
+    o.position = i < 4 ? ValvePosition::closed : i < 12 ? ValvePosition::moving : ValvePosition::open;
+    ASSERT_EQ(s.watch(o), Fault::none) << i;
+  }
+  o.command_in_force = ValveCommand::closed;
+  for (int i = 0; i < 300; ++i) {
+    o.position = i < 4 ? ValvePosition::open : i < 24 ? ValvePosition::moving : ValvePosition::closed;
+    ASSERT_EQ(s.watch(o), Fault::none) << i;
+  }
+}
+
+TEST(FaultSupervisor, ValveOpeningWithoutACommandIsStuckOpenAfterTheTravelLimit) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;  // closed, reporting closed
+  for (int i = 0; i < 50; ++i) ASSERT_EQ(s.watch(o), Fault::none);
+  o.position = ValvePosition::open;
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 1000) {
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::valve_stuck_open);
+  EXPECT_EQ(jiffies, 43);
+}
+
+TEST(FaultSupervisor, ValveJammedMidStrokeFaultsAfterTheTravelLimit) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  o.position = ValvePosition::moving;
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 1000) {
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::valve_stuck_closed);
+  EXPECT_EQ(jiffies, 43);  // 3 x (30 + 80) ms + 100 ms
+}
+
+TEST(FaultSupervisor, DoseWithoutRisingWeightIsNoFlowAfterTwoSeconds) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  o.position = ValvePosition::open;
+  o.dose_flowing = o.dose_running = true;
+  o.counts_per_gram = 1.0f;
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 1000) {
+    o.fresh_sample = true;
+    o.raw_counts = 8000.0f + float(jiffies % 3);  // noise, no rise
+    o.filtered_g = float(jiffies % 3);
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::no_flow);
+  EXPECT_EQ(jiffies, 200);
+}
+
+TEST(FaultSupervisor, WeightRisingLongAfterADoseCloseIsFlowAfterClose) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  o.position = ValvePosition::open;
+  o.dose_flowing = o.dose_running = true;
+  s.watch(o);
+  o.command_in_force = ValveCommand::closed;
+  o.position = ValvePosition::closed;  // lying feedback
+  o.dose_flowing = false;
+  float w = 5000.0f;
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 1000) {
+    o.filtered_g = (w += 24.0f);
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::flow_after_close);
+  EXPECT_GT(jiffies, 161);  // 30 + 80 + 495 (1.2 m fall) + 1000 ms of grace
+  EXPECT_LE(jiffies, 167);  // then 100 g of rise at 24 g a jiffy
+}
+
+}  // namespace
+}  // namespace dynweigh::firmware
