@@ -5,3 +5,17 @@ bin=$1; work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 printf 'param fall_mm 1500\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1500'
 printf 'param fall_mm\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1500'
 printf 'param fall_mm\n' | "$bin/dynweigh-fw" | grep -q 'fall_mm=1200'
+# Two slots: damage the newest record and the previous one is still there.
+printf 'param fall_mm 1600\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1600'
+printf 'param fall_mm\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1600'
+python3 - "$work/nvm.bin" <<'PY'
+import struct, sys
+path = sys.argv[1]
+data = bytearray(open(path, "rb").read())
+half = len(data) // 2
+sequences = [struct.unpack_from("<I", data, offset + 4)[0] for offset in (0, half)]
+newest = 0 if sequences[0] > sequences[1] else half
+data[newest + 40] ^= 0xFF  # a bit-flipped parameter in the newest record
+open(path, "wb").write(data)
+PY
+printf 'param fall_mm\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1500'

@@ -1,30 +1,29 @@
 #include "dynweigh/hal/host/file_settings_store.hpp"
 
-#include <cstdio>
-#include <fstream>
-#include <iterator>
-#include <vector>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
 
 namespace dynweigh::hal::host {
 
-bool FileSettingsStore::load(firmware::PersistentSettings& settings) {
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) return false;
-  std::vector<std::uint8_t> bytes;
-  char c;
-  while (bytes.size() <= 4 * firmware::kSettingsRecordSize && in.get(c)) bytes.push_back(std::uint8_t(c));
-  return firmware::decode_settings(bytes.data(), bytes.size(), settings);
+bool FileNvm::read(std::size_t offset, std::uint8_t* data, std::size_t length) const {
+  if (offset + length > size()) return false;
+  std::fill(data, data + length, std::uint8_t(0xFF));
+  const int fd = ::open(path_.c_str(), O_RDONLY);
+  if (fd < 0) return true;  // no file yet: erased memory
+  const ssize_t n = ::pread(fd, data, length, off_t(offset));
+  ::close(fd);
+  return n >= 0;  // a short file reads as erased beyond its end
 }
 
-bool FileSettingsStore::save(const firmware::PersistentSettings& settings) {
-  std::uint8_t record[firmware::kSettingsRecordSize];
-  const std::size_t size = firmware::encode_settings(settings, record, sizeof record);
-  const std::string temporary = path_ + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out.write(reinterpret_cast<const char*>(record), std::streamsize(size))) return false;
-  }
-  return std::rename(temporary.c_str(), path_.c_str()) == 0;
+bool FileNvm::write(std::size_t offset, const std::uint8_t* data, std::size_t length) {
+  if (offset + length > size()) return false;
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT, 0644);
+  if (fd < 0) return false;
+  const bool written = ::pwrite(fd, data, length, off_t(offset)) == ssize_t(length) && ::fsync(fd) == 0;
+  ::close(fd);
+  return written;
 }
 
 }  // namespace dynweigh::hal::host
