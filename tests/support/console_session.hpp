@@ -11,6 +11,7 @@
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "support/string_console.hpp"
 
 namespace dynweigh::testing {
 
@@ -48,29 +49,16 @@ class ConsoleSession {
 
   // Raw bytes straight into the indicator, bypassing the line-at-a-time script.
   std::string send_raw(const std::string& bytes, std::uint32_t jiffies = 5) {
-    output_.clear();
-    RawConsole raw{bytes, output_};
+    StringConsole raw;
+    raw.pending = bytes;
     for (std::uint32_t i = 0; i < jiffies; ++i) session_.step(raw);
-    return output_;
+    return raw.output;
   }
 
   hal::host::LockstepSession& session() { return session_; }
   const std::vector<hal::host::TraceRow>& trace() const { return trace_; }
 
  private:
-  struct RawConsole final : hal::ConsolePort {
-    RawConsole(std::string bytes, std::string& out) : pending(std::move(bytes)), output(out) {}
-    std::size_t read(char* destination, std::size_t capacity) override {
-      const std::size_t n = std::min(capacity, pending.size());
-      pending.copy(destination, n);
-      pending.erase(0, n);
-      return n;
-    }
-    void write(const char* data, std::size_t n) override { output.append(data, n); }
-    std::string pending;
-    std::string& output;
-  };
-
   bool next_line(std::string& line) {
     if (script_.empty()) return false;
     line = script_.front();

@@ -13,6 +13,7 @@
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "support/string_console.hpp"
 
 namespace dynweigh::testing {
 
@@ -71,17 +72,6 @@ class FaultRig {
   std::uint32_t close_jiffy() const { return close_jiffy_; }
 
  private:
-  struct StringConsole final : hal::ConsolePort {
-    std::size_t read(char* destination, std::size_t capacity) override {
-      const std::size_t n = std::min(capacity, pending.size());
-      pending.copy(destination, n);
-      pending.erase(0, n);
-      return n;
-    }
-    void write(const char* data, std::size_t n) override { output.append(data, n); }
-    std::string pending;
-    std::string output;
-  };
 
   static bool ends_with_answer(const std::string& text) {
     if (text.empty() || text.back() != '\n') return false;

@@ -1,0 +1,23 @@
+#pragma once
+// A console port over two strings: the bytes still to send to the indicator, and what it answered.
+#include <algorithm>
+#include <string>
+
+#include "dynweigh/hal/ports.hpp"
+
+namespace dynweigh::testing {
+
+struct StringConsole final : hal::ConsolePort {
+  std::size_t read(char* destination, std::size_t capacity) override {
+    const std::size_t n = std::min(capacity, pending.size());
+    pending.copy(destination, n);
+    pending.erase(0, n);
+    return n;
+  }
+  void write(const char* data, std::size_t n) override { output.append(data, n); }
+
+  std::string pending;
+  std::string output;
+};
+
+}  // namespace dynweigh::testing
