@@ -84,5 +84,29 @@ TEST(Dose, EveryStrategyOfTheSpecDoses) {
   }
 }
 
+// The valve opens only from a scale at rest (stable_band_g for stable_ms): a dose sent while the
+// reading still moves waits, and its start weight, and so its fill, is the one at rest.
+TEST(Dose, OpensOnlyOnceTheScaleIsAtRest) {
+  ConsoleSession moving;  // sent at power-up: the display filter is still rising to the empty hopper
+  const auto moving_result = lines_of(moving.run({"dose 3000"}));
+  ASSERT_EQ(moving_result.size(), 2u);
+  std::size_t first_open = 0;
+  while (first_open < moving.trace().size() && moving.trace()[first_open].valve == 0) ++first_open;
+  EXPECT_GE(first_open, 49u) << "opened before the 0.5 s of rest (the 50th sample at rest is jiffy 49)";
+  EXPECT_LE(first_open, 150u) << "waited far longer than the filter takes to settle";
+
+  ConsoleSession resting;
+  resting.idle(200);
+  const std::size_t before = resting.trace().size();
+  const auto resting_result = lines_of(resting.run({"dose 3000"}));
+  ASSERT_EQ(resting_result.size(), 2u);
+  EXPECT_EQ(resting.trace()[before].valve, 2) << "a scale at rest opens in the dose's own jiffy";
+  // Both fills are right: the wait cost time, not accuracy.
+  for (ConsoleSession* c : {&moving, &resting}) {
+    const double fill_g = c->session().plant().truth().static_kg * 1000.0;
+    EXPECT_NEAR(fill_g, 3000.0, 100.0);
+  }
+}
+
 }  // namespace
 }  // namespace dynweigh::testing

@@ -25,7 +25,8 @@ using hal::host::SensorFault;
 using hal::host::ValveFault;
 
 constexpr std::int32_t kTargetG = 5000;
-constexpr std::uint32_t kFaultJiffy = 60;  // 0.6 s into the dose: the valve is open, the flow runs
+constexpr std::uint32_t kRestJiffies = 60;  // the scale stands at rest before the dose, which opens from rest
+constexpr std::uint32_t kFaultJiffy = kRestJiffies + 60;  // 0.6 s into the dose: the valve is open, the flow runs
 
 struct MatrixCase {
   const char* name;
@@ -63,6 +64,7 @@ TEST(FaultMatrix, EveryFaultTimesEveryStrategy) {
   int injected = 0;
   for (const char* strategy : {"model", "preact", "twostage"}) {
     FaultRig healthy(hal::host::SensorFaultPlan{}, ValveFault::none, 0);
+    healthy.idle(kRestJiffies);
     const std::string healthy_answer =
         healthy.run_command("dose " + std::to_string(kTargetG) + " " + strategy, 9000);
     healthy.idle(500);
@@ -70,6 +72,7 @@ TEST(FaultMatrix, EveryFaultTimesEveryStrategy) {
     for (const MatrixCase& c : matrix()) {
       SCOPED_TRACE(std::string(strategy) + " x " + c.name);
       FaultRig rig(c.sensor, c.valve, c.valve_at);
+      rig.idle(kRestJiffies);
       const std::string answer = rig.run_command("dose " + std::to_string(kTargetG) + " " + strategy, 9000);
       rig.idle(500);  // let whatever is still flowing land
       ++injected;

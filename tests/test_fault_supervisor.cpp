@@ -1,6 +1,8 @@
 // The fault supervisor's rules one at a time, on hand-made observations.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "dynweigh/firmware/fault_supervisor.hpp"
 
 namespace dynweigh::firmware {
@@ -146,8 +148,38 @@ TEST(FaultSupervisor, WeightRisingLongAfterADoseCloseIsFlowAfterClose) {
     ++jiffies;
   }
   EXPECT_EQ(f, Fault::flow_after_close);
-  EXPECT_GT(jiffies, 161);  // 30 + 80 + 495 (1.2 m fall) + 1000 ms of grace
-  EXPECT_LE(jiffies, 167);  // then 100 g of rise at 24 g a jiffy
+  // A fast leak: 30 + 80 + 495 (1.2 m fall) + 400 ms, then two 250 ms means 600 g apart.
+  EXPECT_GT(jiffies, 101);
+  EXPECT_LE(jiffies, 152);
+}
+
+// After a dose's close with lying feedback: the weight keeps rising at `grams_per_jiffy`, or (0)
+// only rings the way a loaded platform rings through the display filter.
+int jiffies_to_flow_after_close(float grams_per_jiffy, float ringing_g) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  o.position = ValvePosition::open;
+  o.dose_flowing = o.dose_running = true;
+  s.watch(o);
+  o.command_in_force = ValveCommand::closed;
+  o.position = ValvePosition::closed;
+  o.dose_flowing = false;
+  for (int j = 1; j <= 1000; ++j) {
+    o.filtered_g = 15000.0f + grams_per_jiffy * float(j) + ringing_g * std::sin(2.0f * float(M_PI) * 3.7f * 0.01f * float(j));
+    if (s.watch(o) == Fault::flow_after_close) return j;
+  }
+  return 0;
+}
+
+TEST(FaultSupervisor, SlowLeakIsFoundByTheLongWindowAndRingingIsNoLeak) {
+  const int slow = jiffies_to_flow_after_close(2.0f, 65.0f);  // 0.2 kg/s under +-65 g of 3.7 Hz ringing
+  EXPECT_GT(slow, 161);                                        // not by the early check
+  EXPECT_LE(slow, 161 + 200);
+  EXPECT_EQ(jiffies_to_flow_after_close(0.0f, 65.0f), 0);      // the settling of a 15 kg fill
+  const int fast = jiffies_to_flow_after_close(24.0f, 65.0f);
+  EXPECT_GT(fast, 101);
+  EXPECT_LE(fast, 152);
 }
 
 }  // namespace

@@ -44,7 +44,9 @@ struct LiveRun {
 
 // A live run of `lines` as dynweigh-fw runs it (one line at a time, each once the previous has
 // finished), recorded to `path` when it is not empty.
-LiveRun run_live(const std::vector<std::string>& lines, const std::string& path, std::uint64_t seed = 1) {
+// `rest_jiffies`: how long the scale stands before the first line is sent.
+LiveRun run_live(const std::vector<std::string>& lines, const std::string& path, std::uint64_t seed = 1,
+                 int rest_jiffies = 0) {
   LiveRun run;
   hal::host::LockstepSession session(sim::default_scene(), seed);
   run.settings = session.indicator().settings();
@@ -58,11 +60,12 @@ LiveRun run_live(const std::vector<std::string>& lines, const std::string& path,
       },
       [&run](const char* data, std::size_t n) { run.console.append(data, n); });
   std::unique_ptr<hal::host::LockstepRecorder> recorder;
+  console.set_indicator_busy(rest_jiffies > 0);
   if (!path.empty()) recorder = std::make_unique<hal::host::LockstepRecorder>(path, session, "test");
   for (int i = 0; i < 30000; ++i) {
     const firmware::Outputs out = recorder ? recorder->step(console) : session.step(console);
     run.jiffies.push_back({out, session.indicator().filtered_weight_g(), session.last_row().raw});
-    console.set_indicator_busy(out.busy);
+    console.set_indicator_busy(out.busy || i + 1 < rest_jiffies);  // nothing is sent while the scale rests
     if (console.input_ended() && !out.busy) break;
   }
   return run;
@@ -177,11 +180,13 @@ TEST(ReplayInputsRecording, FlippedByteIsCaughtByTheCrc) {
 TEST(ReplaySamples, OpenLoopReplayOfALiveDoseReachesTheSameCutoff) {
   // The samples of a closed-loop dose, replayed raw with the same command at the same jiffy: the
   // indicator sees what it saw live, so it decides the same, though nothing closes the loop.
-  const LiveRun live = run_live({"dose 3000"}, "");
+  // The scale stands at rest first, so the valve opens in the dose's own jiffy.
+  constexpr int kRest = 100;
+  const LiveRun live = run_live({"dose 3000"}, "", 1, kRest);
   tools::RecordedSamples samples;
   samples.format = "csv";
   for (const LiveJiffy& j : live.jiffies) samples.samples.push_back({j.raw, int(j.outputs.valve)});
-  ASSERT_EQ(samples.first_open_jiffy(), 0);
+  ASSERT_EQ(samples.first_open_jiffy(), kRest);
   tools::ReplayOptions options;
   options.settings = live.settings;
   options.console_lines = {"dose 3000"};

@@ -59,6 +59,7 @@ TEST(TestData, ManualCycleRecordsTheValveAsItIs) {
 
 TEST(TestData, ADoseIsRecordedToo) {
   ConsoleSession c;
+  c.idle(60);  // the scale at rest, so the dose opens at once
   c.run({"dose 2000"});
   const auto records = parse_records(c.run({"readtestdata"}));
   ASSERT_EQ(records.size(), 1000u);

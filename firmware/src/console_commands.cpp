@@ -140,12 +140,15 @@ void Indicator::command_dose(const Arguments& args) {
   if (args.count == 3 && !parse_strategy(args.word[2], strategy)) return error(2, "unknown strategy");
   if (!strategy_available(strategy)) return error(2, "strategy not in this build");
   if (reject_if_busy()) return;
+  // A dose owns the valve and ends with it closed; started over a manually opened valve, the
+  // manual command would open it again after the result (found by fuzz/console_fuzzer.cpp).
+  if (manual_valve_ != ValveCommand::closed) return error(3, "valve open (valve 0 first)");
   if (fault_ != Fault::none) return error(4, "fault active");
   if (!settings_.calibration.valid()) return error(5, "not calibrated");
   if (filtered_weight_g() + tare_g_ + float(target) > p.get(ParameterId::capacity_g)) {
     return error(2, "target exceeds the scale's capacity");
   }
-  dosing_.start(std::int32_t(target), strategy, filtered_weight_g(), &settings_.learning);
+  dosing_.start(std::int32_t(target), strategy, &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();
 }
@@ -270,6 +273,7 @@ void Indicator::command_clearfault(const Arguments& args) {
   fault_ = Fault::none;
   stale_jiffies_ = 0;
   supervisor_.reset();  // a cause still present is found again from scratch
+  filter_.restart();
   manual_valve_ = ValveCommand::closed;
   ok();
 }

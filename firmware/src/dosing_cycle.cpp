@@ -25,26 +25,33 @@ void DosingCycle::configure(const Parameters& p) {
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
-  stable_.configure(p.get(ParameterId::stable_band_g),
-                    std::uint32_t(p.get(ParameterId::stable_ms) / p.get(ParameterId::jiffy_ms)));
+  const std::uint32_t stable_jiffies = std::uint32_t(p.get(ParameterId::stable_ms) / p.get(ParameterId::jiffy_ms));
+  stable_.configure(p.get(ParameterId::stable_band_g), stable_jiffies);
+  standstill_.configure(p.get(ParameterId::stable_band_g), stable_jiffies);
 }
 
-void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g,
-                        const LearningTable* learning) {
+void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const LearningTable* learning) {
   result_ = DoseResult{};
   learning_ = learning;
   learning_key_ = LearningKey{};
   result_.target_g = target_g;
   result_.strategy = strategy;
-  start_weight_g_ = start_weight_g;
   jiffies_ = 0;
   last_prediction_g_ = 0.0f;
   valve_delay_100us_ = 0;
-  model_.start(start_weight_g);
   stable_.reset();
   settling_fit_.reset();
   estimates_ = 0;
+  blind_jiffies_ = 0;
   phase_ = Phase::dosing;
+  valve_ = ValveCommand::closed;
+  awaiting_rest_ = true;  // step() opens, in this very jiffy if its sample finds the scale at rest
+}
+
+void DosingCycle::open_from_rest() {
+  awaiting_rest_ = false;
+  start_weight_g_ = standstill_.mean();
+  model_.start(start_weight_g_);
   valve_ = ValveCommand::open;
 }
 
@@ -130,11 +137,30 @@ bool DosingCycle::certify(float net_weight_g, float filtered_weight_g) {
   return true;
 }
 
-DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight_g) {
+DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight_g, bool fresh) {
   if (phase_ == Phase::idle) return Outcome::running;
   ++jiffies_;
   valve_delay_100us_ = 0;
   const float elapsed_s = float(jiffies_) * jiffy_s_;
+  if (phase_ == Phase::dosing && awaiting_rest_) {
+    if (!standstill_.stable()) {
+      if (elapsed_s <= settle_limit_s_) return Outcome::running;
+      abort();
+      return Outcome::never_stable;
+    }
+    open_from_rest();  // and decide in this jiffy, as a dose that found the scale at rest does
+  }
+  if (phase_ == Phase::dosing && !fresh) {
+    // No sample: nothing to decide on. If the fill could reach the target before the supervisor
+    // declares the sensor stale, close now: an early close underfills, a blind one overdoses.
+    ++blind_jiffies_;
+    const float growth = model_.growth_per_jiffy_g();
+    if (last_prediction_g_ + growth * float(blind_jiffies_ + kBlindHorizonJiffies) >= float(result_.target_g)) {
+      close_valve(model_.settle_delay_s());
+    }
+    return Outcome::running;
+  }
+  blind_jiffies_ = 0;
   if (phase_ == Phase::dosing) {
     bool close = false;
     switch (result_.strategy) {

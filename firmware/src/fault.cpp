@@ -17,6 +17,8 @@ const char* fault_name(Fault fault) {
     case Fault::no_flow: return "no_flow";
     case Fault::flow_after_close: return "flow_after_close";
     case Fault::sensor_frozen: return "sensor_frozen";
+    case Fault::can_silence: return "can_silence";
+    case Fault::bus_off: return "bus_off";
   }
   return "unknown";
 }

@@ -26,6 +26,8 @@ void FaultSupervisor::configure(const Parameters& p) {
   no_flow_jiffies_ = jiffies_for(kNoFlowWindowMs, jiffy_ms);
   rest_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kRestMarginMs, jiffy_ms);
   after_close_window_jiffies_ = jiffies_for(kFlowAfterCloseWindowMs, jiffy_ms);
+  early_leak_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kEarlyLeakMarginMs, jiffy_ms);
+  early_leak_window_jiffies_ = jiffies_for(kEarlyLeakWindowMs, jiffy_ms);
 }
 
 void FaultSupervisor::reset() {
@@ -166,14 +168,26 @@ Fault FaultSupervisor::watch_flow(const Observation& o) {
   return Fault::none;
 }
 
+bool FaultSupervisor::watch_early_leak(float filtered_g, float rise_g) {
+  if (command_age_ <= early_leak_jiffies_) return false;
+  const std::uint32_t into = command_age_ - early_leak_jiffies_ - 1;
+  const std::uint32_t window = into / early_leak_window_jiffies_;
+  if (window > 1) return false;
+  if (into == 0) early_leak_sums_g_[0] = early_leak_sums_g_[1] = 0.0f;
+  early_leak_sums_g_[window] += filtered_g;
+  if (into + 1 != 2 * early_leak_window_jiffies_) return false;
+  return (early_leak_sums_g_[1] - early_leak_sums_g_[0]) / float(early_leak_window_jiffies_) > rise_g;
+}
+
 Fault FaultSupervisor::watch_after_close(const Observation& o) {
   if (!closed_by_dose_ || o.command_in_force != ValveCommand::closed) return Fault::none;
+  const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
+                                 kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
+  if (watch_early_leak(o.filtered_g, rise_g)) return Fault::flow_after_close;
   if (command_age_ == rest_jiffies_) after_close_reference_g_ = o.filtered_g;
   if (command_age_ <= rest_jiffies_ || command_age_ > rest_jiffies_ + after_close_window_jiffies_) {
     return Fault::none;
   }
-  const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
-                                 kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
   return o.filtered_g > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
 }
 

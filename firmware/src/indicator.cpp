@@ -5,7 +5,7 @@
 
 namespace dynweigh::firmware {
 namespace {
-constexpr std::uint32_t kStaleLimitJiffies = 10;        // 100 ms without a sample
+constexpr std::uint32_t kStaleLimitJiffies = DosingCycle::kBlindHorizonJiffies;  // 100 ms without a sample
 constexpr std::size_t kRoomForAnAnswer = 1500;          // the longest answer (`param`, `help`)
 constexpr std::size_t kRoomForARecord = 48;
 constexpr float kOverloadMarginG = 9.0f;                // 9 d above Max, as OIML R76 blanks
@@ -121,11 +121,17 @@ void Indicator::execute_queued_commands() {
 }
 
 void Indicator::process_sample(const LoadCellInput& sample) {
+  if (sample.link == LinkStatus::bus_off) raise(Fault::bus_off);
   if (!sample.fresh) {
-    if (++stale_jiffies_ >= kStaleLimitJiffies) raise(Fault::stale_sample);
+    // A whole stale window in which the board heard nothing at all is the bus, not the load cell.
+    silent_jiffies_ = sample.link == LinkStatus::silent ? silent_jiffies_ + 1 : 0;
+    if (++stale_jiffies_ >= kStaleLimitJiffies) {
+      raise(silent_jiffies_ >= kStaleLimitJiffies ? Fault::can_silence : Fault::stale_sample);
+    }
     return;
   }
   stale_jiffies_ = 0;
+  silent_jiffies_ = 0;
   last_counter_ = sample.counter;
   if (sample.status & kLoadCellAdcError) raise(Fault::adc_error);
   if (sample.status & kLoadCellOverload) raise(Fault::overload);
@@ -147,6 +153,9 @@ void Indicator::process_sample(const LoadCellInput& sample) {
 // The fault supervisor's watch over valve, flow and sensor, before any command of this jiffy: a
 // fault it finds closes the valve in this jiffy's outputs.
 void Indicator::supervise(const Inputs& inputs) {
+  // A link that carries nothing brings no news of the valve either: its last feedback would read as
+  // a valve that never moved. The link's own fault speaks for this jiffy.
+  if (inputs.load_cell.link != LinkStatus::ok) return;
   FaultSupervisor::Observation o;
   o.command_in_force = valve_;
   o.position = inputs.valve_position;
@@ -161,10 +170,11 @@ void Indicator::supervise(const Inputs& inputs) {
 }
 
 void Indicator::advance_dose() {
+  dosing_.watch_standstill(filtered_weight_g());
   if (dosing_.phase() == DosingCycle::Phase::idle) return;
   const Calibration& cal = settings_.calibration;
   const float net_g = (screened_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
-  switch (dosing_.step(net_g, filtered_weight_g())) {
+  switch (dosing_.step(net_g, filtered_weight_g(), stale_jiffies_ == 0)) {
     case DosingCycle::Outcome::running:
       return;
     case DosingCycle::Outcome::timed_out:

@@ -85,6 +85,13 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   decoded.calibration.counts_per_gram = get_f32(body + 4);
   decoded.calibration.zero_set = (data[7] & 1) != 0;
   decoded.calibration.span_set = (data[7] & 2) != 0;
+  // A calibration no `zero` or `cal` can produce (not finite, span not positive) is dropped: the
+  // indicator then asks for calibration instead of weighing with it (found by fuzz/settings_fuzzer).
+  Calibration& cal = decoded.calibration;
+  if (!std::isfinite(cal.zero_counts) || !std::isfinite(cal.counts_per_gram) ||
+      (cal.span_set && !(cal.counts_per_gram > 0.0f))) {
+    cal = Calibration{};
+  }
   for (std::size_t i = 0; i < kParameterCount; ++i) {
     // A value outside today's range (an older firmware's table) falls back to the default.
     decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 8 + 4 * i));
@@ -97,7 +104,9 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
     e.key = {p[1], p[2], p[3]};
     e.correction_g = get_f32(p + 4);
     e.fills = std::uint16_t(p[8] | (p[9] << 8));
-    if (!e.used || !std::isfinite(e.correction_g)) e = LearningTable::Entry{};
+    // Learning moves a correction by at most kMaximumStepG a fill: more is not a learned value.
+    const bool reachable = std::fabs(e.correction_g) <= LearningTable::kMaximumStepG * float(e.fills);
+    if (!e.used || !std::isfinite(e.correction_g) || !reachable) e = LearningTable::Entry{};
   }
   settings = decoded;
   return true;

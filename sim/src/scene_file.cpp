@@ -1,5 +1,6 @@
 #include "dynweigh/sim/scene_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -27,8 +28,20 @@ std::string format_number(double value) {
   return text;
 }
 
+// Field names and values come from the file: a refusal quotes them on one printable line, not
+// too long (found by fuzz/scene_fuzzer.cpp: a key "a\nb" made a two-line message).
+std::string printable(const std::string& text) {
+  constexpr std::size_t kMaxQuoted = 200;
+  std::string out;
+  for (const char c : text) {
+    if (out.size() == kMaxQuoted) return out + "...";
+    out.push_back(c >= 0x20 && c != 0x7f ? c : '?');
+  }
+  return out;
+}
+
 [[noreturn]] void reject(const std::string& origin, const std::string& field, const std::string& why) {
-  throw std::runtime_error(origin + ": " + field + ": " + why);
+  throw std::runtime_error(origin + ": " + printable(field) + ": " + printable(why));
 }
 
 std::string dotted(const char* section, const char* key) {
@@ -95,8 +108,8 @@ Scene parse_scene_json(const std::string& text, const std::string& origin) {
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& error) {
-    throw std::runtime_error(origin + ": not valid JSON (" + error.what() + ")");
+  } catch (const json::exception& error) {  // parse_error, and out_of_range for a number like 1e400
+    throw std::runtime_error(origin + ": not valid JSON (" + printable(error.what()) + ")");
   }
   if (!document.is_object()) throw std::runtime_error(origin + ": a scene is a JSON object");
 
@@ -149,11 +162,43 @@ Scene parse_scene_json(const std::string& text, const std::string& origin) {
 }
 
 Scene load_scene_file(const std::string& path) {
-  std::ifstream in(path);
+  // Scene files are a few kB. Read at most one byte past the limit, so a wrong path (a huge log,
+  // a sparse file, /dev/zero, a FIFO) is refused at once instead of read into memory.
+  constexpr std::size_t kMaxSceneFileBytes = 1 << 20;
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot read the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_scene_json(text.str(), path);
+  std::string text(kMaxSceneFileBytes + 1, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  if (in.bad()) throw std::runtime_error(path + ": cannot read the scene file");
+  text.resize(std::size_t(in.gcount()));
+  if (text.size() > kMaxSceneFileBytes) {
+    throw std::runtime_error(path + ": more than " + std::to_string(kMaxSceneFileBytes) + " bytes, not a scene file");
+  }
+  return parse_scene_json(text, path);
+}
+
+std::string scene_to_json(const Scene& scene, const std::string& notes_json) {
+  json document = json::object();
+  document["name"] = scene.name;
+  document["source"] = scene.source;
+  if (!notes_json.empty()) document["_calibration"] = json::parse(notes_json);
+  json components = json::array();
+  const std::string names = components_of(scene).names();
+  for (std::size_t begin = 0; begin < names.size();) {
+    const std::size_t comma = std::min(names.find(',', begin), names.size());
+    components.push_back(names.substr(begin, comma - begin));
+    begin = comma + 1;
+  }
+  document["components"] = components;
+  detail::visit_scene_fields(scene, [&](const char* section, const char* key, const char*, const double& value,
+                                        const detail::FieldRange&) {
+    if (*section) {
+      document[section][key] = value;
+    } else {
+      document[key] = value;
+    }
+  });
+  return document.dump(2) + "\n";
 }
 
 std::string scenes_directory() {

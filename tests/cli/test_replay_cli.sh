@@ -26,8 +26,9 @@ cutoff=$(grep '^cutoff_jiffy=' summary.txt | cut -d= -f2)
 live_cutoff=$(awk -F, 'NR > 2 && prev != 0 && $8 == 0 { print $2; exit } { prev = $8 }' live.csv)
 [ "$cutoff" = "$live_cutoff" ] || { echo "cutoff $cutoff, live $live_cutoff"; exit 1; }
 
-# 2. The same samples as a raw CSV, replayed open loop with the same command: same decisions.
-"$bin/dynweigh" replay live.csv --dose 3000 --console-out raw.txt > raw_summary.txt 2> raw_err.txt
+# 2. The same samples as a raw CSV, replayed open loop with the same command at the same jiffy (the
+#    dose was sent at jiffy 0 and opened once the scale had rested): same decisions.
+"$bin/dynweigh" replay live.csv --dose 3000 --at 0 --console-out raw.txt > raw_summary.txt 2> raw_err.txt
 grep -qx 'open_loop=1' raw_summary.txt
 grep -q 'OPEN LOOP' raw_err.txt
 grep -q '^RESULT' raw.txt

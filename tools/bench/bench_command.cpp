@@ -1,21 +1,23 @@
 // dynweigh bench: strategies x scenarios x targets x seeds, closed loop through the same
 // Indicator::step the firmware runs, judged by the plant's true mass. Prints a markdown table,
 // then one key=value line per series; CSV and a PNG of run time against error on request.
+// The series are the jobs of a scenario grid (tools/grid): threads, or MPI ranks under mpirun,
+// journalled for --resume; every fill's seed is its index in the series, whoever runs it.
 #include <CLI/CLI.hpp>
 
-#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
 #include "bench_commands.hpp"
 #include "fill_series.hpp"
+#include "grid_runner.hpp"
 #include "progress_bar.hpp"
+#include "series_row.hpp"
 #include "step_benchmark.hpp"
 #ifdef DYNWEIGH_HAS_SIM_BENCH
 #include "sim_commands.hpp"
@@ -123,6 +125,51 @@ void write_png(const std::string& path, const std::vector<SeriesResult>& results
   if (pclose(gp) != 0) throw std::runtime_error("gnuplot failed drawing " + path);
 }
 
+// On stderr, so that stdout stays the same bytes however the grid ran: what this run computed,
+// what the journal already held, and how the ranks shared the work.
+void report_grid(const grid::GridOutcome& outcome, const grid::ParallelSession& session, const std::string& journal) {
+  std::string by_rank;
+  for (std::size_t count : outcome.computed_by_rank) by_rank += (by_rank.empty() ? "" : ",") + std::to_string(count);
+  std::fprintf(stderr, "computed=%zu skipped=%zu dropped_journal_lines=%zu ranks=%d computed_by_rank=%s journal=%s\n",
+               outcome.computed, outcome.skipped, outcome.dropped_journal_lines, session.size(), by_rank.c_str(),
+               journal.empty() ? "none" : journal.c_str());
+}
+
+double parse_target(const std::string& text, const Scenario& scenario) {
+  double target = 0.0;
+  try {
+    target = std::stod(text);
+  } catch (const std::logic_error&) {
+    throw std::runtime_error("target '" + text + "' is not a number");
+  }
+  if (!(target >= 1.0 && target <= scenario.scene.load_cell.capacity_kg * 1000.0)) {
+    throw std::runtime_error("target " + text + " g is outside the scale's range");
+  }
+  return target;
+}
+
+// The grid in its canonical order: strategy, knob, scenario, target.
+std::vector<SeriesSpec> series_specs(const std::string& strategies, const std::string& targets, bool sweep,
+                                     const std::vector<Scenario>& scenarios) {
+  std::vector<SeriesSpec> specs;
+  for (const auto& name : split(strategies)) {
+    BenchStrategy strategy;
+    if (!parse_bench_strategy(name, strategy)) throw std::runtime_error("unknown strategy '" + name + "'");
+    const bool two_stage = strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
+    std::vector<double> knobs{0.0};
+    if (two_stage) knobs = sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5} : std::vector<double>{1.0};
+    if ((strategy == BenchStrategy::model || strategy == BenchStrategy::learn) && sweep) {
+      knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
+    }
+    for (double knob : knobs) {
+      for (std::size_t s = 0; s < scenarios.size(); ++s) {
+        for (const auto& t : split(targets)) specs.push_back({strategy, knob, s, parse_target(t, scenarios[s])});
+      }
+    }
+  }
+  return specs;
+}
+
 }  // namespace
 
 int run_bench_command(int argc, char** argv) {
@@ -133,10 +180,10 @@ int run_bench_command(int argc, char** argv) {
 #endif
   }
   std::string strategies = "model,learn,preact,twostage,twostage-dyn,oracle";
-  std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png;
+  std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png, journal;
   std::uint32_t seeds = 50;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-  bool sweep = false, quiet = false;
+  bool sweep = false, quiet = false, resume = false;
   CLI::App app{"dynweigh bench: strategies x scenes x targets x seeds, closed loop through Indicator::step, judged\n"
                "by the plant's true mass. `--step`: Google Benchmark of Indicator::step. `--sim`: the plant's\n"
                "speed and accuracy per scene."};
@@ -145,11 +192,15 @@ int run_bench_command(int argc, char** argv) {
                                           "material-change)");
   app.add_option("--targets", targets, "targets in grams")->capture_default_str();
   app.add_option("--seeds", seeds, "fills per series")->capture_default_str()->check(CLI::Range(2u, 100000u));
-  app.add_option("--jobs", jobs, "worker threads")->check(CLI::Range(1u, 256u));
+  app.add_option("--jobs", jobs, "worker threads (one process; under mpirun each rank runs one series at a time)")
+      ->check(CLI::Range(1u, 256u));
   app.add_flag("--sweep", sweep, "sweep each strategy's speed knob: the half-open fine feed, in seconds of full "
                                "flow (model: model_fine_s, twostage: its band)");
   app.add_option("--csv", csv, "write the series as CSV");
   app.add_option("--png", png, "draw run time against error");
+  app.add_option("--journal", journal, "append each series' result to FILE as it finishes (default: the --csv "
+                                       "file + .journal; none without --csv)");
+  app.add_flag("--resume", resume, "take the journal's finished series, compute only the missing ones");
   app.add_flag("--quiet", quiet, "no progress bar");
   app.add_flag("--step", "Google Benchmark of Indicator::step (other options go to Google Benchmark)");
   app.add_flag("--sim", "the plant's realtime factor and error per scene");
@@ -161,55 +212,37 @@ int run_bench_command(int argc, char** argv) {
     std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
     return 2;
   }
+  if (journal.empty() && !csv.empty()) journal = csv + ".journal";
+  if (resume && journal.empty()) {
+    std::fprintf(stderr, "dynweigh bench: --resume needs --journal FILE or --csv FILE\n");
+    return 2;
+  }
+  const grid::ParallelSession session(true);
   try {
     std::vector<Scenario> scenarios;
     for (const auto& name : scene_list.empty() ? default_scenarios() : split(scene_list)) {
       scenarios.push_back(make_scenario(name));
     }
-    std::vector<SeriesSpec> specs;
-    for (const auto& name : split(strategies)) {
-      BenchStrategy strategy;
-      if (!parse_bench_strategy(name, strategy)) throw std::runtime_error("unknown strategy '" + name + "'");
-      const bool two_stage = strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
-      std::vector<double> knobs{0.0};
-      if (two_stage) knobs = sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5} : std::vector<double>{1.0};
-      if ((strategy == BenchStrategy::model || strategy == BenchStrategy::learn) && sweep) {
-        knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
-      }
-      for (double knob : knobs) {
-        for (std::size_t s = 0; s < scenarios.size(); ++s) {
-          for (const auto& t : split(targets)) {
-            double target = 0.0;
-            try {
-              target = std::stod(t);
-            } catch (const std::logic_error&) {
-              throw std::runtime_error("target '" + t + "' is not a number");
-            }
-            if (!(target >= 1.0 && target <= scenarios[s].scene.load_cell.capacity_kg * 1000.0)) {
-              throw std::runtime_error("target " + t + " g is outside the scale's range");
-            }
-            specs.push_back({strategy, knob, s, target});
-          }
-        }
-      }
-    }
+    const std::vector<SeriesSpec> specs = series_specs(strategies, targets, sweep, scenarios);
+    std::vector<std::string> keys;
+    for (const auto& spec : specs) keys.push_back(series_key(spec, scenarios));
 
-    std::vector<SeriesResult> results(specs.size());
-    std::atomic<std::size_t> next{0}, done{0};
-    ProgressBar bar("bench", specs.size(), !quiet);
-    std::mutex bar_mutex;
-    auto worker = [&]() {
-      for (std::size_t i; (i = next++) < specs.size();) {
-        results[i] = run_series(specs[i], scenarios[specs[i].scenario], seeds);
-        const std::size_t finished = ++done;
-        const std::lock_guard<std::mutex> lock(bar_mutex);
-        bar.update(finished);
-      }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned j = 0; j < jobs; ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
+    ProgressBar bar("bench", specs.size(), !quiet && session.writer());
+    grid::GridOptions options;
+    options.threads = jobs;
+    options.journal_path = journal;
+    options.resume = resume;
+    options.signature = "bench seeds=" + std::to_string(seeds);
+    options.progress = [&bar](std::size_t finished, std::size_t) { bar.update(finished); };
+    const grid::GridOutcome outcome = grid::run_grid(
+        session, keys,
+        [&](std::size_t i) { return encode_series_row(run_series(specs[i], scenarios[specs[i].scenario], seeds)); },
+        options);
     bar.finish();
+    if (!session.writer()) return 0;
+    std::vector<SeriesResult> results;
+    for (std::size_t i = 0; i < specs.size(); ++i) results.push_back(decode_series_row(specs[i], outcome.rows[i]));
+    if (!journal.empty() || session.distributed()) report_grid(outcome, session, journal);
 
     std::printf("| strategy | knob | scene | target g | time / t_phys (mean, max) | bias g | sd g | max dev g | class |\n");
     std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
@@ -226,6 +259,7 @@ int run_bench_command(int argc, char** argv) {
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
+    if (session.distributed()) session.abort(1);  // the other ranks would wait for jobs forever
     return 1;
   }
 }

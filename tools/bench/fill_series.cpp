@@ -81,7 +81,9 @@ Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy s
       },
       [&](const char* data, std::size_t n) { output.append(data, n); });
   console.set_indicator_busy(true);
-  for (int i = 0; i < 20; ++i) session.step(console);  // the display filter settles first
+  // The hopper stands empty a second before the fill: the display filter settles and the scale is
+  // at rest, which the dose waits for.
+  for (int i = 0; i < 100; ++i) session.step(console);
   console.set_indicator_busy(false);
   const double before_kg = session.plant().truth().static_kg;
   Fill fill;

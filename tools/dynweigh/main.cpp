@@ -48,6 +48,7 @@ constexpr Subcommand kSubcommands[] = {
     {"soc", "SOC sandpile (BTW): statistics and the avalanche force", run_soc_command},
     {"poisson", "Poisson duct flow: velocity profile and alpha", run_poisson_command},
     {"dem", "2D discrete element model of the silo", run_dem_command},
+    {"calibrate", "a scene's lumped parameters from the DEM, SOC or Poisson models", run_calibrate_command},
 #endif
 #ifdef DYNWEIGH_HAS_PLANT
     {"plant", "the simulator as the load-cell and valve modules on a CAN transport", run_plant_command},

@@ -25,6 +25,7 @@ namespace dynweigh::tools {
 namespace {
 
 constexpr std::size_t kMaxLineLength = 4096;
+constexpr std::size_t kMaxRows = 2'000'000;  // 5.5 h of jiffies; a bigger file is not one to plot
 constexpr double kImpactForceN = 2.0;  // clearly above the load cell's noise (0.3 d = 3 mN) and ringing at rest
 
 // A CSV read whole: a header of names, rows of cells, every row as wide as the header.
@@ -53,6 +54,18 @@ struct Table {
   }
 };
 
+// std::getline, but never more than one byte past kMaxLineLength: a file without line ends (a
+// sparse file, 200 MB of "1,") is refused at once instead of read into memory whole.
+bool read_bounded_line(std::istream& in, std::string& line) {
+  line.clear();
+  for (int c; (c = in.get()) != std::char_traits<char>::eof();) {
+    if (c == '\n') return true;
+    line.push_back(char(c));
+    if (line.size() > kMaxLineLength + 1) return true;  // long enough to be refused
+  }
+  return !line.empty();
+}
+
 std::vector<std::string> split_csv(const std::string& line) {
   std::vector<std::string> cells;
   std::stringstream stream(line);
@@ -67,7 +80,7 @@ Table read_table(const std::string& path) {
   Table t;
   t.path = path;
   std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
+  for (std::size_t number = 1; read_bounded_line(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.size() > kMaxLineLength) throw std::runtime_error(path + ": line " + std::to_string(number) + " is too long");
     for (unsigned char c : line) {
@@ -82,6 +95,9 @@ Table read_table(const std::string& path) {
     if (cells.size() != t.names.size()) {
       throw std::runtime_error(path + ": line " + std::to_string(number) + " has " + std::to_string(cells.size()) +
                                " fields, not " + std::to_string(t.names.size()));
+    }
+    if (t.rows.size() == kMaxRows) {
+      throw std::runtime_error(path + ": more than " + std::to_string(kMaxRows) + " rows, more than a plot shows");
     }
     t.rows.push_back(std::move(cells));
   }

@@ -6,19 +6,87 @@
 #include <ctime>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "command_line_errors.hpp"
+#include "dynweigh/granular/dem_calibration.hpp"
 #include "dynweigh/granular/impact_relaxation_estimate.hpp"
 #include "dynweigh/granular/outflow_profile.hpp"
 #include "dynweigh/granular/silo2d.hpp"
+#include "dynweigh/sim/scene.hpp"
 #include "granular_commands.hpp"
 #include "progress_bar.hpp"
 
 namespace dynweigh::tools {
 
 using namespace dynweigh::granular;
+
+namespace {
+
+struct SceneDoseOptions {
+  std::string scene;
+  double close_s = 0.8;
+  double discs_across = 8.0;
+  int particles = 1200;
+  unsigned long long seed = 1;
+  std::string csv;
+  bool quiet = false;
+};
+
+// `dem --scene NAME`: the scene's silo, gate, fall and container as a 2D DEM (dem_scene.hpp says
+// how it is scaled); the force on the container bottom over time, as the lumped plant gives it.
+int run_scene_dose(const SceneDoseOptions& o) {
+  std::optional<sim::Scene> scene;
+  try {
+    scene = sim::scene_by_name(o.scene);
+  } catch (const std::exception& e) {
+    return fail("dem", e.what());
+  }
+  if (!scene) return fail("dem", "unknown scene '" + o.scene + "' (see dynweigh sim --list; or silo2d)");
+  std::ofstream out;
+  if (!o.csv.empty()) {
+    out.open(o.csv);
+    if (!out) return fail("dem", "cannot write " + o.csv);
+  }
+  DemSceneConfig config = dem_scene_config(*scene, o.close_s, o.discs_across);
+  config.fill_discs = o.particles;
+  ProgressBar bar("dem " + o.scene, 1000, !o.quiet);
+  DemSceneRun run;
+  try {
+    run = run_dem_scene(config, o.seed, [&](double f) { bar.update(static_cast<std::uint64_t>(1000 * f)); });
+  } catch (const std::exception& e) {
+    return fail("dem", e.what());
+  }
+  bar.finish();
+  if (out) {
+    out << "t_s,force_n,released_kg\n";
+    for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+      out << run.time_s[k] << ',' << run.force_n[k] << ',' << run.released_kg[k] << '\n';
+    }
+  }
+  const double steady_from = config.valve_dead_time_s + config.valve_full_stroke_s + 0.1;
+  const ForceSignalFeatures f = force_signal_features(run.time_s, run.force_n, steady_landing_end_s(config));
+  std::printf("scene=%s\nmodel=dem2d\nseed=%llu\ngrain_d_m=%.5g\nslot_depth_m=%.5g\ndisc_mass_kg=%.5g\nparticles=%lld\n"
+              "settle_s=%.4f\nsteps=%lld\nparticle_steps=%.6g\ncpu_seconds=%.3f\nparticle_steps_per_cpu_s=%.4g\n",
+              scene->name.c_str(), o.seed, run.grain_diameter_m, run.slot_depth_m, run.disc_mass_kg,
+              static_cast<long long>(run.discs), run.settle_s, static_cast<long long>(run.steps), run.particle_steps,
+              run.cpu_seconds, run.cpu_seconds > 0 ? run.particle_steps / run.cpu_seconds : 0.0);
+  std::printf("close_s=%.4f\nbed_bulk_density=%.5g\ndischarge_rate_kg_s=%.5g\noutflow_alpha=%.4f\nreleased_kg=%.5g\n"
+              "lost_kg=%.4g\ndead_time_s=%.4f\nimpulse_n=%.5g\nslope_n_s=%.5g\nrelaxation_estimate_s=%.4f\n"
+              "final_force_n=%.5g\n",
+              o.close_s, run.bed_bulk_density, steady_discharge_kg_s(run, steady_from, o.close_s + config.valve_dead_time_s),
+              run.outflow.alpha, run.released_total_kg, run.lost_kg, f.dead_time_s, f.impulse_n, f.slope_n_s,
+              f.relaxation_s, f.final_n);
+  std::printf("lumped_equivalent=dynweigh sim --scene %s --schedule open@0,close@%ld --duration %.3f --csv FILE\n",
+              o.scene.c_str(), std::lround(o.close_s / 0.01), run.time_s.empty() ? 0.0 : run.time_s.back());
+  if (out) std::printf("csv=%s\n", o.csv.c_str());
+  return 0;
+}
+
+}  // namespace
 
 int run_dem_command(int argc, char** argv) {
   CLI::App app{"2D DEM (thesis section 3.4): the peer's 2D silo in reduced units (d = 1, g = 1); rates in discs per sqrt(d/g)"};
@@ -36,7 +104,12 @@ int run_dem_command(int argc, char** argv) {
   bool no_calibration = false;
   int calibration_every = 20;
   std::string csv;
-  app.add_option("--scene", scene, "built-in scene: silo2d (the peer silo)")->check(CLI::IsMember({"silo2d"}));
+  app.add_option("--scene", scene, "a plant scene (name or .json) as a 2D DEM dose, or silo2d (the peer silo)");
+  double close_s = 0.8;
+  double discs_across = 8.0;
+  app.add_option("--close", close_s, "--scene: close command time in s (open command at 0)")->check(CLI::Range(0.05, 30.0));
+  app.add_option("--discs-across", discs_across, "--scene: discs across the bore (coarse graining: d = bore / this)")
+      ->check(CLI::Range(2.0, 60.0));
   app.add_flag("--silo2d", silo2d, "the peer's 2D flat-bottom silo");
   app.add_option("--orifice", orifice, "orifice width D in disc diameters (bottom discs removed)")->check(CLI::Range(1, 40));
   app.add_option("--particles", particles, "moving discs (peer: 3612)")->check(CLI::Range(1, 10000000));
@@ -56,6 +129,17 @@ int run_dem_command(int argc, char** argv) {
     return report_parse_outcome(app, e, "dem");
   }
   if (!silo2d && scene.empty()) return fail("dem", "give --silo2d or --scene NAME");
+  if (!silo2d && scene != "silo2d") {
+    SceneDoseOptions o;
+    o.scene = scene;
+    o.close_s = close_s;
+    o.discs_across = discs_across;
+    if (app.count("--particles") > 0) o.particles = particles;
+    o.seed = app.count("--seed") > 0 ? seed : 1;
+    o.csv = csv;
+    o.quiet = quiet;
+    return run_scene_dose(o);
+  }
   Silo2dConfig config;
   config.moving_discs = particles;
   config.seed = seed;

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   if (std::strcmp(command, "soc") == 0) return dynweigh::tools::run_soc_command(argc - 1, argv + 1);
   if (std::strcmp(command, "poisson") == 0) return dynweigh::tools::run_poisson_command(argc - 1, argv + 1);
   if (std::strcmp(command, "dem") == 0) return dynweigh::tools::run_dem_command(argc - 1, argv + 1);
+  if (std::strcmp(command, "calibrate") == 0) return dynweigh::tools::run_calibrate_command(argc - 1, argv + 1);
   std::fprintf(stderr, "dynweigh-granular: unknown command '%s'\n", command);
   return 2;
 }

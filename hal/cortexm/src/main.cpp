@@ -1,7 +1,9 @@
 // The Cortex-M4F image: the same firmware library as the host, on a board with a console UART and a
 // plant link carrying the CAN frames of SPEC §4 as SLCAN lines. One jiffy per 0x190 sample (the
 // load-cell module paces the loop, lockstep or real time alike); SysTick counts 10 ms for the
-// heartbeat and, on boards with `kSampleTimeoutTicks`, for a jiffy without a sample.
+// heartbeat and, once the board's `kLinkSilenceTicks` pass without a sample, for jiffies without
+// one. Samples are put in order by their counter (hal/can/sample_sequence.hpp), as on Linux: a
+// duplicate runs no jiffy, a late one is discarded, a lost one is a jiffy without a sample.
 //
 // Per-jiffy instruction budget: Indicator::step runs between dw_step_begin() and one of
 // dw_step_end_idle() / dw_step_end_active(); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
@@ -10,6 +12,7 @@
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/hal/can/protocol.hpp"
+#include "dynweigh/hal/can/sample_sequence.hpp"
 #include "dynweigh/hal/can/slcan.hpp"
 #include "dynweigh/hal/cortexm/board_mps2_an386.hpp"
 #include "dynweigh/hal/cortexm/cmsdk_uart.hpp"
@@ -55,9 +58,16 @@ void send_frame(const can::CanFrame& frame) {
 struct JiffyState {
   std::uint32_t jiffy = 0;
   fw::ValvePosition valve_position = fw::ValvePosition::closed;
+  fw::LoadCellInput last_sample{0, 0, 0, false, fw::LinkStatus::ok};
+  bool plant_heard = false;        // a frame from the plant ever came: silence is watched from then
+  bool heard_since_jiffy = false;  // one came since the last jiffy
+  std::uint32_t last_sample_tick = 0;
+  std::uint32_t last_stand_in_tick = 0;
 };
 
-void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample) {
+// `answer`: send the 0x220/0x181 pair (not for a jiffy standing in for a lost sample).
+void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample, bool answer = true) {
+  state.heard_since_jiffy = false;
   char rx[128];
   std::size_t rx_length = 0;
   while (rx_length < sizeof rx && g_console_rx.pop(rx[rx_length])) ++rx_length;
@@ -76,10 +86,12 @@ void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample) {
     dw_step_end_active();
   }
 
-  send_frame(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(out.valve), out.valve_delay_100us,
-                                                  out.answered_counter}));
-  send_frame(can::encode(can::IndicatorStatusMessage{out.weight_100mg, static_cast<std::uint8_t>(out.state),
-                                                     static_cast<std::uint8_t>(out.valve), out.answered_counter}));
+  if (answer) {
+    send_frame(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(out.valve), out.valve_delay_100us,
+                                                    out.answered_counter}));
+    send_frame(can::encode(can::IndicatorStatusMessage{out.weight_100mg, static_cast<std::uint8_t>(out.state),
+                                                       static_cast<std::uint8_t>(out.valve), out.answered_counter}));
+  }
   // The console drains at the UART's pace: take from the indicator only what the ring can hold.
   char tx[256];
   for (std::size_t n; g_console_tx.free_space() > 0 &&
@@ -88,6 +100,34 @@ void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample) {
     for (std::size_t i = 0; i < n; ++i) g_console_tx.push(tx[i]);
   }
   ++state.jiffy;
+}
+
+fw::LoadCellInput without_sample(const JiffyState& state, fw::LinkStatus link) {
+  fw::LoadCellInput stale = state.last_sample;
+  stale.fresh = false;
+  stale.link = link;
+  return stale;
+}
+
+void on_sample(JiffyState& state, can::SampleSequence& sequence, const can::LoadCellSampleMessage& m) {
+  const can::SampleSequence::Arrival arrival = sequence.arrive(m.counter);
+  if (!arrival.accept) return;  // the same sample again, or one the indicator is already past
+  for (std::uint16_t i = 0; i < arrival.missing; ++i) {
+    run_jiffy(state, without_sample(state, fw::LinkStatus::ok), /*answer=*/false);
+  }
+  state.last_sample = fw::LoadCellInput{m.raw_counts, m.counter, m.status, true, fw::LinkStatus::ok};
+  state.last_sample_tick = g_ticks;
+  run_jiffy(state, state.last_sample);
+}
+
+// A jiffy per tick without a sample once the link has been quiet for kLinkSilenceTicks.
+void watch_silence(JiffyState& state, can::SampleSequence& sequence) {
+  const std::uint32_t now = g_ticks;
+  if (!state.plant_heard || now - state.last_sample_tick < Board::kLinkSilenceTicks) return;
+  if (now == state.last_stand_in_tick) return;
+  state.last_stand_in_tick = now;
+  run_jiffy(state, without_sample(state, state.heard_since_jiffy ? fw::LinkStatus::ok : fw::LinkStatus::silent));
+  sequence.stood_in();
 }
 
 }  // namespace
@@ -108,6 +148,7 @@ extern "C" int board_main() {
   send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtBootUp}));
 
   can::SlcanDecoder decoder;
+  can::SampleSequence sequence;
   JiffyState state;
   std::uint32_t heartbeat_tick = 0;
   for (;;) {
@@ -115,10 +156,12 @@ extern "C" int board_main() {
     while (plant.rx_ready()) {
       can::CanFrame frame;
       if (!decoder.push(plant.read(), frame)) continue;
+      if (!state.plant_heard) state.last_sample_tick = g_ticks;  // silence is counted from here
+      state.plant_heard = state.heard_since_jiffy = true;  // a point-to-point link: no echo of our own
       switch (can::classify(frame)) {
         case can::MessageKind::load_cell_sample: {
           can::LoadCellSampleMessage m;
-          if (can::decode(frame, m)) run_jiffy(state, fw::LoadCellInput{m.raw_counts, m.counter, m.status, true});
+          if (can::decode(frame, m)) on_sample(state, sequence, m);
           break;
         }
         case can::MessageKind::valve_feedback: {
@@ -131,6 +174,7 @@ extern "C" int board_main() {
       }
       plant.pump(g_plant_tx);
     }
+    watch_silence(state, sequence);
     if (g_ticks - heartbeat_tick >= 10) {  // CiA 301 heartbeat every 100 ms
       heartbeat_tick = g_ticks;
       send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtOperational}));

@@ -70,7 +70,9 @@ class SlcanTransport final : public CanTransport {
   bool send(const CanFrame& frame) override {
     char line[can::kSlcanMaxLine];
     const std::size_t n = can::slcan_encode(frame, line, sizeof line);
-    return n > 0 && write_all(line, n);
+    if (n == 0) return false;  // not a frame: the link is fine
+    send_failed_ = !write_all(line, n);
+    return !send_failed_;
   }
 
   int receive(CanFrame& frame, int timeout_ms) override {
@@ -97,6 +99,7 @@ class SlcanTransport final : public CanTransport {
   const std::string& name() const override { return name_; }
   int fd() const override { return fd_; }
   bool has_buffered_input() const override { return next_ < filled_; }
+  bool bus_off() const override { return send_failed_; }
 
  private:
   bool write_all(const char* data, std::size_t length) {
@@ -125,6 +128,7 @@ class SlcanTransport final : public CanTransport {
   char buffer_[512] = {};
   std::size_t next_ = 0, filled_ = 0;
   bool closed_ = false;
+  bool send_failed_ = false;
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 // SPEC §4 socketcan transport: a raw CAN socket bound to one interface (can0, vcan0).
 #include <linux/can.h>
+#include <linux/can/error.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <poll.h>
@@ -42,6 +43,9 @@ class SocketCanTransport final : public CanTransport {
       ::close(fd_);
       throw std::runtime_error("socketcan: cannot bind " + interface_name + ": " + reason);
     }
+    // The controller's bus-off and its restart come as error frames once asked for.
+    const can_err_mask_t errors = CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
+    ::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &errors, sizeof errors);
   }
   ~SocketCanTransport() override { ::close(fd_); }
   SocketCanTransport(const SocketCanTransport&) = delete;
@@ -52,9 +56,13 @@ class SocketCanTransport final : public CanTransport {
     out.can_id = frame.id | (frame.extended ? CAN_EFF_FLAG : 0u) | (frame.remote ? CAN_RTR_FLAG : 0u);
     out.len = frame.dlc > 8 ? 8 : frame.dlc;
     std::memcpy(out.data, frame.data, out.len);
+    send_failed_ = true;  // until the frame is queued: a full queue for 1 s is a dead bus too
     for (int attempt = 0; attempt < 1000; ++attempt) {
       const ssize_t n = ::write(fd_, &out, sizeof out);
-      if (n == ssize_t(sizeof out)) return true;
+      if (n == ssize_t(sizeof out)) {
+        send_failed_ = false;
+        return true;
+      }
       if (n < 0 && (errno == EINTR)) continue;
       if (n < 0 && (errno == ENOBUFS || errno == EAGAIN)) {  // transmit queue full: wait a little
         pollfd p{fd_, POLLOUT, 0};
@@ -78,7 +86,12 @@ class SocketCanTransport final : public CanTransport {
         if (errno == EINTR || errno == EAGAIN) continue;
         return -1;
       }
-      if (n != ssize_t(sizeof in) || (in.can_id & CAN_ERR_FLAG) || in.len > 8) continue;
+      if (n == ssize_t(sizeof in) && (in.can_id & CAN_ERR_FLAG)) {
+        if (in.can_id & CAN_ERR_BUSOFF) controller_bus_off_ = true;
+        if (in.can_id & CAN_ERR_RESTARTED) controller_bus_off_ = false;
+        return 0;  // no frame, but news: the caller looks at bus_off()
+      }
+      if (n != ssize_t(sizeof in) || in.len > 8) continue;
       CanFrame f;
       f.extended = (in.can_id & CAN_EFF_FLAG) != 0;
       f.remote = (in.can_id & CAN_RTR_FLAG) != 0;
@@ -92,9 +105,12 @@ class SocketCanTransport final : public CanTransport {
 
   const std::string& name() const override { return name_; }
   int fd() const override { return fd_; }
+  bool bus_off() const override { return controller_bus_off_ || send_failed_; }
 
  private:
   int fd_ = -1;
+  bool controller_bus_off_ = false;
+  bool send_failed_ = false;
   std::string name_;
 };
 

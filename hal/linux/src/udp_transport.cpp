@@ -50,10 +50,10 @@ class UdpTransport final : public CanTransport {
     can::to_linux_bytes(frame, bytes);
     for (;;) {
       const ssize_t n = ::sendto(fd_, bytes, sizeof bytes, 0, reinterpret_cast<const sockaddr*>(&peer_), sizeof peer_);
-      if (n == ssize_t(sizeof bytes)) return true;
       if (n < 0 && errno == EINTR) continue;
       // ECONNREFUSED: an ICMP from an earlier datagram to a peer not yet listening; not fatal.
-      return n < 0 && errno == ECONNREFUSED;
+      send_failed_ = !(n == ssize_t(sizeof bytes) || (n < 0 && errno == ECONNREFUSED));
+      return !send_failed_;
     }
   }
 
@@ -76,9 +76,11 @@ class UdpTransport final : public CanTransport {
 
   const std::string& name() const override { return name_; }
   int fd() const override { return fd_; }
+  bool bus_off() const override { return send_failed_; }
 
  private:
   int fd_ = -1;
+  bool send_failed_ = false;
   sockaddr_in peer_{};
   std::string name_;
 };

@@ -72,6 +72,13 @@ std::size_t Dem2dWorld::add_wall(const WallSegment& wall) {
   return walls_.size() - 1;
 }
 
+void Dem2dWorld::move_wall(std::size_t index, const WallSegment& to) {
+  const WallSegment& from = walls_[index];
+  const double shift = std::max(std::hypot(to.ax - from.ax, to.ay - from.ay), std::hypot(to.bx - from.bx, to.by - from.by));
+  walls_[index] = to;
+  travel_since_build_ += shift;
+}
+
 std::size_t Dem2dWorld::moving_count() const { return count_ - fixed_list_.size(); }
 
 std::size_t Dem2dWorld::count_moving_above(double level) const {

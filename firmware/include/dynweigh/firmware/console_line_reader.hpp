@@ -1,6 +1,8 @@
 #pragma once
 // Assembles console lines: a line ends at CR, LF or CR LF, empty lines are ignored, and a line
-// longer than 80 characters is discarded whole (SPEC §3) and reported once at its end.
+// longer than 80 characters is discarded whole (SPEC §3) and reported once at its end. A line of
+// only spaces and tabs is empty too, and NUL bytes (a UART break, terminal padding) are dropped,
+// so every line the reader completes is a command the indicator answers exactly once.
 #include <cstddef>
 
 namespace dynweigh::firmware {
@@ -17,6 +19,7 @@ class ConsoleLineReader {
  private:
   char buffer_[kMaxLine + 1] = {};
   std::size_t length_ = 0;
+  bool has_word_ = false;  // a character other than space or tab
   bool overflowed_ = false;
 };
 

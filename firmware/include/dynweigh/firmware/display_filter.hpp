@@ -13,6 +13,8 @@ class DisplayFilter {
 
   void configure(FilterKind kind, float corner_hz, float jiffy_s);
   void reset(float value);
+  // The next sample primes the filter afresh: after a fault, a pegged history is no evidence.
+  void restart() { primed_ = false; }
   float push(float value);
   float value() const { return output_; }
 

@@ -2,7 +2,8 @@
 // One dose, from `dose` to its certified result: the valve opens, the strategy decides the cutoff
 // (timed within the jiffy for the model), the scale settles, and the result is certified either
 // dynamically (a fit of the platform's damped ringing) or as industrial indicators do (stable
-// weight). A fault aborts it with the valve closed.
+// weight). A fault aborts it with the valve closed. The valve opens only from a scale at rest: a
+// start weight taken while the scale moves would be wrong by the motion, and so would the fill.
 #include <cstdint>
 
 #include "dynweigh/firmware/dosing_strategy.hpp"
@@ -29,11 +30,16 @@ class DosingCycle {
   enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable };
 
   void configure(const Parameters& parameters);
+  // Every jiffy, dosing or not: whether the scale is at rest, and at what weight.
+  void watch_standstill(float filtered_weight_g) { standstill_.push(filtered_weight_g); }
   // `learning` (the learn strategy's corrections) must outlive the dose; may be null otherwise.
-  void start(std::int32_t target_g, DosingStrategy strategy, float start_weight_g,
-             const LearningTable* learning = nullptr);
-  // One jiffy with the unfiltered and the filtered net weight (grams).
-  Outcome step(float net_weight_g, float filtered_weight_g);
+  // The valve opens in the first step() whose sample finds the scale at rest (time counts from here).
+  void start(std::int32_t target_g, DosingStrategy strategy, const LearningTable* learning = nullptr);
+  // One jiffy with the unfiltered and the filtered net weight (grams); `fresh` is false when the
+  // jiffy brought no sample (the weights are the last ones held).
+  Outcome step(float net_weight_g, float filtered_weight_g, bool fresh = true);
+  // The supervisor's stale-sample limit: a dose blind for this long ends in a fault anyway.
+  static constexpr std::uint32_t kBlindHorizonJiffies = 10;
   void abort() { phase_ = Phase::idle; valve_ = ValveCommand::closed; }
 
   Phase phase() const { return phase_; }
@@ -48,6 +54,7 @@ class DosingCycle {
   const LearningKey& learning_key() const { return learning_key_; }
 
  private:
+  void open_from_rest();
   bool decide_model(float net_weight_g);
   bool decide_preact(float filtered_weight_g, float preact_g);
   bool decide_twostage(float filtered_weight_g);
@@ -58,6 +65,7 @@ class DosingCycle {
 
   ModelCutoff model_;
   StableWeightDetector stable_;
+  StableWeightDetector standstill_;
   model::DampedSettlingFit<float, 64> settling_fit_;
   float jiffy_s_ = 0.01f;
   float preact_g_ = 0.0f;
@@ -70,6 +78,7 @@ class DosingCycle {
   CertifyMode certify_mode_ = CertifyMode::automatic;
 
   Phase phase_ = Phase::idle;
+  bool awaiting_rest_ = false;
   ValveCommand valve_ = ValveCommand::closed;
   std::uint8_t valve_delay_100us_ = 0;
   DoseResult result_;
@@ -82,6 +91,7 @@ class DosingCycle {
   static constexpr std::uint32_t kAgreementJiffies = 5;
   float recent_estimates_[kAgreementJiffies] = {};
   std::uint32_t estimates_ = 0;
+  std::uint32_t blind_jiffies_ = 0;
 };
 
 }  // namespace dynweigh::firmware

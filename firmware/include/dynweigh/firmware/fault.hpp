@@ -19,6 +19,9 @@ enum class Fault : std::uint8_t {
   no_flow,             // a dose's valve open, the weight does not rise
   flow_after_close,    // the weight keeps rising long after the close
   sensor_frozen,       // the load cell repeats one value while the flow runs
+  // The plant link's (io.hpp LinkStatus, reported by a CAN board):
+  can_silence,  // nothing heard on the bus for 100 ms: the link, not just the load cell, is dead
+  bus_off,      // the transport went bus-off (or its link down): no command reaches the valve
 };
 
 const char* fault_name(Fault fault);

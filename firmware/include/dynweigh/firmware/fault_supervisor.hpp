@@ -21,7 +21,10 @@
 // - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
 //   rate that moves them by many counts in that time.
 // - `flow_after_close`: after a dose's close, once dead time, stroke, the stream's fall time and a
-//   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s.
+//   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s;
+//   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
+//   before by kFlowAfterCloseRise (means, because a loaded platform rings slowly through the filter),
+//   before a stuck valve can run the silo empty while the long margin passes.
 #include <cstdint>
 
 #include "dynweigh/firmware/fault.hpp"
@@ -44,6 +47,8 @@ class FaultSupervisor {
   static constexpr std::uint32_t kFrozenMinSamples = 5;
   static constexpr float kRestMarginMs = 1000.0f;   // the display filter's ringing after the landing
   static constexpr float kFlowAfterCloseWindowMs = 2000.0f;
+  static constexpr float kEarlyLeakMarginMs = 400.0f;  // the 2 Hz filter's lag has decayed to ~4 %
+  static constexpr float kEarlyLeakWindowMs = 250.0f;
   static constexpr float kFlowAfterCloseRiseFractionOfCapacity = 0.002f;  // 100 g on 50 kg; settling rings +-30 g
   static constexpr float kFlowAfterCloseRiseStableBands = 50.0f;
 
@@ -74,6 +79,7 @@ class FaultSupervisor {
  private:
   Fault watch_valve(const Observation& o);
   Fault watch_flow(const Observation& o);
+  bool watch_early_leak(float filtered_g, float rise_g);
   Fault watch_after_close(const Observation& o);
 
   // Limits.
@@ -84,6 +90,8 @@ class FaultSupervisor {
   std::uint32_t no_flow_jiffies_ = 200;
   std::uint32_t rest_jiffies_ = 111;
   std::uint32_t after_close_window_jiffies_ = 200;
+  std::uint32_t early_leak_jiffies_ = 71;
+  std::uint32_t early_leak_window_jiffies_ = 20;
 
   // Outlier screen.
   bool has_good_ = false;
@@ -113,6 +121,7 @@ class FaultSupervisor {
 
   // After close.
   float after_close_reference_g_ = 0.0f;
+  float early_leak_sums_g_[2] = {};  // the filtered weight summed over the two windows
 };
 
 }  // namespace dynweigh::firmware

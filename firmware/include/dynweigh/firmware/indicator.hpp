@@ -99,6 +99,7 @@ class Indicator {
   bool has_sample_ = false;
   float tare_g_ = 0.0f;
   std::uint32_t stale_jiffies_ = 0;
+  std::uint32_t silent_jiffies_ = 0;  // of those, jiffies the link reported silent
   std::uint16_t last_counter_ = 0;
   Fault fault_ = Fault::none;
   FaultSupervisor supervisor_;

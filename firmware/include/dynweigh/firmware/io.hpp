@@ -11,11 +11,20 @@ enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
 // SPEC §4, 0x1A0: 0 closed, 1 moving, 2 half, 3 open.
 enum class ValvePosition : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
 
+// The link that carries the samples, as the board sees it this jiffy. A board without a bus (an ADC
+// on the board, the in-process plant) always says `ok`.
+enum class LinkStatus : std::uint8_t {
+  ok = 0,
+  silent,   // nothing at all heard from the plant's nodes since the last jiffy
+  bus_off,  // the transport can no longer send or receive (CAN bus-off, link down)
+};
+
 struct LoadCellInput {
   std::int32_t raw_counts = 0;
   std::uint16_t counter = 0;
   std::uint8_t status = 0;  // SPEC §4: bit0 overload, bit1 underload, bit2 ADC error
   bool fresh = true;        // false: no sample arrived this jiffy
+  LinkStatus link = LinkStatus::ok;
 };
 
 inline constexpr std::uint8_t kLoadCellOverload = 0x01;

@@ -11,57 +11,65 @@
 
 namespace dynweigh::firmware {
 
-class ModelCutoff {
+// Scalar is float on the target; the double instantiation is the reference the numerical stress
+// tests run beside it.
+template <typename Scalar>
+class BasicModelCutoff {
  public:
   static constexpr std::uint32_t kMinimumFitSamples = 10;
 
   void configure(const Parameters& parameters);
   // Called at the jiffy the valve is commanded open; weights are net grams on the scale.
-  void start(float start_weight_g);
+  void start(Scalar start_weight_g);
   // One unfiltered sample per jiffy; returns the predicted final fill (grams added by this dose)
   // if the valve were commanded closed now.
-  float observe(float net_weight_g);
+  Scalar observe(Scalar net_weight_g);
   // Grams the fill grows per jiffy at the present flow, for timing the close within the jiffy.
-  float growth_per_jiffy_g() const { return growth_per_jiffy_g_; }
+  Scalar growth_per_jiffy_g() const { return growth_per_jiffy_g_; }
   // Seconds from the close command until the last grain has landed.
-  float settle_delay_s() const;
+  Scalar settle_delay_s() const;
   bool measuring() const { return fit_.count() >= kMinimumFitSamples; }
-  float measured_flow_kg_s() const { return growth_per_jiffy_g_ / (1000.0f * jiffy_s_); }
+  Scalar measured_flow_kg_s() const { return growth_per_jiffy_g_ / (Scalar(1000) * jiffy_s_); }
   // Orifice to pile top once `net_weight_g` is on the scale (the learning table's key).
-  float fall_height_m(float net_weight_g) const;
+  Scalar fall_height_m(Scalar net_weight_g) const;
 
   // The valve goes to half: the flow, the open area and the let-through change, so the fit starts
   // again once the half-open stream has reached the pile. Until then the prediction at the switch
   // grows at the half-open flow Beverloo gives.
-  void switch_to_half(float predicted_now_g);
+  void switch_to_half(Scalar predicted_now_g);
   bool fine_feeding() const { return fine_; }
 
  private:
-  float prior_prediction_g() const;
+  Scalar prior_prediction_g() const;
 
-  model::CutoffGeometry<float> geometry_;
-  float full_area_m2_ = 0.0f;
-  float full_closing_flow_s_ = 0.0f;
-  float half_closing_flow_s_ = 0.0f;  // in seconds of half-open flow
-  float half_flow_ratio_ = 0.5f;      // Beverloo: half-open flow / full flow
-  float half_transition_s_ = 0.0f;    // dead time and half a stroke
-  float jiffy_s_ = 0.01f;
-  float prior_rate_kg_s_ = 0.0f;
-  float opening_delay_s_ = 0.0f;
+  model::CutoffGeometry<Scalar> geometry_;
+  Scalar full_area_m2_ = Scalar(0);
+  Scalar full_closing_flow_s_ = Scalar(0);
+  Scalar half_closing_flow_s_ = Scalar(0);  // in seconds of half-open flow
+  Scalar half_flow_ratio_ = Scalar(0.5);  // Beverloo: half-open flow / full flow
+  Scalar half_transition_s_ = Scalar(0);  // dead time and half a stroke
+  Scalar jiffy_s_ = Scalar(0.01);
+  Scalar prior_rate_kg_s_ = Scalar(0);
+  Scalar opening_delay_s_ = Scalar(0);
   std::uint32_t settle_jiffies_ = 30;
-  float impact_threshold_g_ = 20.0f;
-  model::SlidingLineFit<float, 128> fit_;
+  Scalar impact_threshold_g_ = Scalar(20);
+  model::SlidingLineFit<Scalar, 128> fit_;
 
-  float start_weight_g_ = 0.0f;
+  Scalar start_weight_g_ = Scalar(0);
   std::uint32_t jiffies_ = 0;
   std::uint32_t impact_jiffy_ = 0;
   bool impacted_ = false;
-  float growth_per_jiffy_g_ = 0.0f;
-  float last_fall_time_s_ = 0.0f;
+  Scalar growth_per_jiffy_g_ = Scalar(0);
+  Scalar last_fall_time_s_ = Scalar(0);
   bool fine_ = false;
-  float predicted_at_switch_g_ = 0.0f;
-  float measured_full_rate_g_per_jiffy_ = 0.0f;
+  Scalar predicted_at_switch_g_ = Scalar(0);
+  Scalar measured_full_rate_g_per_jiffy_ = Scalar(0);
   std::uint32_t switch_jiffy_ = 0;
 };
+
+using ModelCutoff = BasicModelCutoff<float>;
+
+extern template class BasicModelCutoff<float>;
+extern template class BasicModelCutoff<double>;
 
 }  // namespace dynweigh::firmware

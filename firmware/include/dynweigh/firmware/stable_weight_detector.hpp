@@ -30,6 +30,7 @@ class StableWeightDetector {
     }
     return count_ >= samples_needed_;
   }
+  bool stable() const { return count_ >= samples_needed_; }
   float mean() const { return count_ ? float(sum_ / double(count_)) : 0.0f; }
 
  private:

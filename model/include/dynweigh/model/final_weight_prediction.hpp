@@ -23,6 +23,9 @@ struct CutoffGeometry {
 template <typename Scalar>
 struct FinalPrediction {
   Scalar final_kg = 0;
+  // final_kg - reading_kg from the small terms alone: at full scale in float the difference of two
+  // large numbers would lose the grams a slow flow adds per jiffy.
+  Scalar above_reading_kg = 0;
   Scalar static_kg = 0;        // on the scale now
   Scalar in_flight_kg = 0;
   Scalar release_kg_s = 0;     // leaving the orifice
@@ -39,6 +42,7 @@ FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Sc
   const Scalar landing = reading_rate_kg_s > Scalar(0) ? reading_rate_kg_s : Scalar(0);
   p.static_kg = reading_kg;
   p.release_kg_s = landing;
+  Scalar impulse_kg = 0;
   // Two fixed-point passes: the static mass sets h, h sets the impulse, the impulse the static mass.
   for (int pass = 0; pass < 2; ++pass) {
     p.fall_height_m = geometry.pile_grows
@@ -49,11 +53,13 @@ FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Sc
     const Scalar rise = geometry.pile_grows ? pile_rise_m_per_kg(geometry.pile, p.static_kg) * landing
                                             : Scalar(0);
     p.release_kg_s = landing * v / (v + rise);
-    p.static_kg = reading_kg - landing * v / geometry.g;
+    impulse_kg = landing * v / geometry.g;
+    p.static_kg = reading_kg - impulse_kg;
   }
   p.fall_time_s = fall_time(p.outflow_speed_m_s, geometry.g, p.fall_height_m);
   p.in_flight_kg = p.release_kg_s * p.fall_time_s;
-  p.final_kg = p.static_kg + p.in_flight_kg + p.release_kg_s * geometry.closing_flow_seconds;
+  p.above_reading_kg = p.in_flight_kg + p.release_kg_s * geometry.closing_flow_seconds - impulse_kg;
+  p.final_kg = reading_kg + p.above_reading_kg;
   return p;
 }
 

@@ -19,6 +19,11 @@ struct SiloParameters {
   double alpha_settle_s = 0.15;          // start-up settling time constant of alpha
   double fluctuation_rms = 0.03;         // SPEC §2
   double fluctuation_correlation_s = 0.15;  // SPEC §2
+  // Thesis eq. 3.16 (mdot = alpha v0 A rho): the outflow's mean-to-peak speed across the bore,
+  // from `dynweigh calibrate --from dem|fluid`; 1 is plug flow. The plant takes the rate from
+  // Beverloo and v0 as the mean speed mdot / (A rho), so alpha is the scene's record of the
+  // profile (the peak speed is v0 / alpha) and does not change the step.
+  double flow_factor = 1.0;
 };
 
 struct ValveParameters {

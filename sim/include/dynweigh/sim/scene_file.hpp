@@ -23,6 +23,11 @@ std::string scenes_directory();
 // runs and the ideal-model figures its parameters imply (flow, v0, fall time, mdot v0 / g).
 std::vector<std::pair<std::string, std::string>> describe_scene(const Scene& scene);
 
+// The scene as a complete scene file (every field, the component list, name and source), which
+// parse_scene_json reads back to the same scene. `notes_json`, if not empty, is a JSON object
+// written under the note key "_calibration" (the figures a calibration measured).
+std::string scene_to_json(const Scene& scene, const std::string& notes_json = "");
+
 // Checks ranges and cross-field constraints of a scene built in code; throws naming the field.
 void validate_scene(const Scene& scene, const std::string& origin);
 

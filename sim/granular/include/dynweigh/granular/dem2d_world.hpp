@@ -59,6 +59,11 @@ class Dem2dWorld {
   // Set-up.
   std::size_t add_disc(const DiscSpec& disc);
   std::size_t add_wall(const WallSegment& wall);
+  // Moves a wall between steps (a slide gate). The larger displacement of its two ends counts as
+  // travel toward the next list rebuild, so no contact is missed. The contact force still treats
+  // the wall as at rest: its own speed does not enter the damping (a gate, not a piston).
+  void move_wall(std::size_t wall, const WallSegment& to);
+  const WallSegment& wall(std::size_t index) const { return walls_[index]; }
   // Removes every disc (moving or fixed, as asked) whose centre lies in the box; keeps history.
   std::size_t remove_discs_in_box(double min_x, double max_x, double min_y, double max_y, bool fixed_only);
 

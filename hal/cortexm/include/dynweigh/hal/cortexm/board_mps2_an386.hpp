@@ -20,6 +20,13 @@ struct BoardMps2An386 {
   static constexpr std::uintptr_t kConsoleUart = 0x40004000;  // UART0: -serial #1
   static constexpr std::uintptr_t kPlantUart = 0x40005000;    // UART1: -serial #2, SLCAN
   static constexpr std::uint32_t kBaud = 115200;
+
+  // Once the plant was heard, this many ticks without a sample run a jiffy without one (each tick
+  // after that another), so a silent link becomes the can_silence fault 10 jiffies later. Generous
+  // here: in QEMU the plant is a lockstep simulator on the host, and with -icount sleep=off its
+  // pauses pass as virtual time several times faster than real time. A board with a real-time
+  // load-cell module would use 3 (the Linux board's 25 ms).
+  static constexpr std::uint32_t kLinkSilenceTicks = 300;
   static_assert(kCpuHz / kBaud >= 16, "CMSDK UART needs a baud divider of at least 16");
 
   // The factory calibration of the scale this board is sold with: here the default scene's

@@ -4,10 +4,20 @@
 // status; a 0x700+1 heartbeat goes out every 10 jiffies and whenever the link is quiet for 100 ms.
 // Lockstep (a plant that waits for the answer) and real time (modules sending every 10 ms) are the
 // same loop; in real time a timerfd also runs a jiffy with `fresh = false` when a sample is more
-// than 25 ms late, so a dead load-cell module becomes a fault instead of a frozen indicator.
+// than 25 ms late, so a dead load-cell module becomes a fault instead of a frozen indicator. In
+// lockstep the same timer runs such jiffies once a plant that was heard has said nothing for 1 s
+// of wall time (a lockstep plant answers in microseconds; one that stops without its NMT-stopped
+// heartbeat is dead), so a silent bus becomes a fault there too.
+//
+// The link's faults (issue 8): samples are put in order by their counter (hal/can/
+// sample_sequence.hpp: a duplicate runs no jiffy, a late one is discarded, a lost one is a jiffy
+// without a sample); each jiffy tells the indicator the link's status through the load cell's
+// sample (firmware::LinkStatus): `silent` when nothing at all came from the plant since the last
+// jiffy, `bus_off` when the transport says so. A transport that goes bus-off gets a jiffy at once.
 #include <cstdint>
 
 #include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/can/sample_sequence.hpp"
 #include "dynweigh/hal/linux/can_transport.hpp"
 #include "dynweigh/hal/ports.hpp"
 
@@ -20,6 +30,7 @@ class CanLoadCell final : public LoadCellPort {
     sample_ = sample;
     sample_.fresh = true;
   }
+  void set_link(firmware::LinkStatus link) { sample_.link = link; }
   firmware::LoadCellInput read_sample() override {
     firmware::LoadCellInput out = sample_;
     sample_.fresh = false;
@@ -27,7 +38,7 @@ class CanLoadCell final : public LoadCellPort {
   }
 
  private:
-  firmware::LoadCellInput sample_{0, 0, 0, false};
+  firmware::LoadCellInput sample_{0, 0, 0, false, firmware::LinkStatus::ok};
 };
 
 // The valve as 0x220 out (sent by the board, with the answered counter) and 0x1A0 in.
@@ -51,7 +62,8 @@ class CanValve final : public ValvePort {
 class CanBoard {
  public:
   // plant_stopped: the load-cell module's heartbeat said NMT stopped (dynweigh plant is leaving).
-  enum class Event { jiffy, stale_jiffy, quiet, closed, plant_stopped };
+  // bus_off: the transport went bus-off and a jiffy ran to report it.
+  enum class Event { jiffy, stale_jiffy, quiet, closed, plant_stopped, bus_off };
 
   CanBoard(CanTransport& transport, firmware::Indicator& indicator, ConsolePort& console,
            SettingsStore* store = nullptr, bool realtime = false);
@@ -68,10 +80,19 @@ class CanBoard {
   const firmware::Outputs& last_outputs() const { return outputs_; }
   std::uint32_t frames_ignored() const { return ignored_; }
   std::int32_t last_raw_counts() const { return last_raw_; }
+  const can::SampleSequence& samples() const { return sequence_; }
+
+  static constexpr int kStaleAfterMs = 25;         // real time: 2.5 periods without a sample
+  static constexpr int kLockstepSilenceMs = 1000;  // lockstep: a plant this long quiet is dead
 
  private:
-  void run_jiffy();
+  // `answer`: send the 0x220/0x181 pair (not for a jiffy standing in for a lost sample: the plant
+  // is no longer waiting for it).
+  void run_jiffy(firmware::LinkStatus link, bool answer = true);
+  void run_jiffy_without_sample();
+  firmware::LinkStatus link_status(bool heard) const;
   void arm_stale_timer(int first_ms);
+  void disarm_stale_timer();
 
   CanTransport& transport_;
   firmware::Indicator& indicator_;
@@ -79,7 +100,12 @@ class CanBoard {
   SettingsStore* store_;
   CanLoadCell load_cell_;
   CanValve valve_;
+  can::SampleSequence sequence_;
+  bool realtime_ = false;
   int timer_fd_ = -1;
+  bool plant_heard_ = false;        // a frame from the plant's nodes ever came (lockstep: arms the timer)
+  bool heard_since_jiffy_ = false;  // one came since the last jiffy
+  bool bus_off_reported_ = false;
   std::uint32_t jiffy_ = 0;
   std::uint32_t ignored_ = 0;
   std::int32_t last_raw_ = 0;

@@ -27,6 +27,10 @@ class CanTransport {
   // For poll(2) beside other descriptors; frames may also wait in a buffer (has_buffered_input).
   virtual int fd() const = 0;
   virtual bool has_buffered_input() const { return false; }
+  // True while no frame can get onto the link: the CAN controller reported bus-off (socketcan), or
+  // the last send failed (interface down, peer gone). The board reports it to the indicator as the
+  // load cell's link status (firmware::LinkStatus::bus_off); the firmware never sees the transport.
+  virtual bool bus_off() const = 0;
 };
 
 struct UdpSpec {
