@@ -57,7 +57,7 @@ TEST(LearnStrategy, ConvergesWithinTenFillsAfterAMaterialChange) {
   firmware::PersistentSettings settings = hal::host::factory_settings(probe);
   settings.parameters.set(firmware::ParameterId::valve_dead_ms, 0.0f);
   settings.parameters.set(firmware::ParameterId::valve_stroke_ms, 0.0f);
-  settings.parameters.set(firmware::ParameterId::container_mm, 5000.0f);
+  settings.parameters.set(firmware::ParameterId::pile_rise, 0.0f);
   auto fill = [&](const sim::Scene& scene) {
     ConsoleSession c(scene, 1, settings);
     c.idle(20);

@@ -35,7 +35,7 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   geometry_.pile.container_diameter_m = get(ParameterId::container_mm) / Scalar(1000);
   geometry_.pile.repose_angle_rad = get(ParameterId::repose_deg) * Scalar(M_PI) / Scalar(180);
   geometry_.pile.bulk_density = density;
-  geometry_.pile_grows = true;
+  geometry_.pile_grows = p.get(ParameterId::pile_rise) > 0.5f;
   geometry_.closing_flow_seconds = model::closing_flow_seconds(material, g, bore_m, dead_s, stroke_s);
   full_area_m2_ = geometry_.bore_area_m2;
   full_closing_flow_s_ = geometry_.closing_flow_seconds;

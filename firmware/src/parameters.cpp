@@ -42,6 +42,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      nullptr, 0},
     {"model_fine_s", "model strategy: half-open fine feed for this many seconds of full flow before the "
      "target (0: fastest)", 0, 10, 0, nullptr, 0},
+    {"pile_rise", "model strategy: the heap rises in the container (1), or the fall height stays fixed (0: a "
+     "level-held hopper, the ideal model)", 0, 1, 1, nullptr, 0},
 };
 
 }  // namespace

@@ -101,7 +101,9 @@ with tempfile.TemporaryDirectory() as tmp:
     initrd = os.path.join(tmp, "initramfs.cpio.gz")
     subprocess.run(f"find . | {busybox} cpio -o -H newc 2>/dev/null | gzip -1 > {initrd}", shell=True, cwd=root,
                    check=True)
-    command = [qemu, "-kernel", vmlinuz[-1], "-initrd", initrd, "-m", "512", "-smp", "1", "-nic", "none",
+    # The initramfs unpacks into RAM: a sanitizer build's tools (debug info and all) need room.
+    guest_mb = "512" if os.path.getsize(initrd) < 64 * 1024 * 1024 else "2048"
+    command = [qemu, "-kernel", vmlinuz[-1], "-initrd", initrd, "-m", guest_mb, "-smp", "1", "-nic", "none",
                "-nographic", "-no-reboot", "-device", "isa-debug-exit,iobase=0xf4,iosize=4",
                "-append", "console=ttyS0 quiet panic=-1"]
     try:

@@ -46,7 +46,7 @@ firmware::PersistentSettings installation(const Scenario& scenario, const sim::P
   p.set(ParameterId::valve_dead_ms, float(s.valve.dead_time_s * 1000.0));
   p.set(ParameterId::valve_stroke_ms, float(s.valve.full_stroke_s * 1000.0));
   p.set(ParameterId::repose_deg, float(s.column.repose_angle_deg));
-  if (!s.column.pile_grows) p.set(ParameterId::container_mm, 5000.0f);  // a pile that never rises
+  if (!s.column.pile_grows) p.set(ParameterId::pile_rise, 0.0f);
   return settings;
 }
 

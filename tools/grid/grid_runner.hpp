@@ -12,11 +12,11 @@
 //   const grid::GridOutcome out = grid::run_grid(session, keys, [&](std::size_t i) { return row(i); }, options);
 //   if (session.writer()) for (const auto& row : out.rows) print(row);
 //
-// With MPI and more than one rank, rank 0 deals the jobs out one at a time in the grid's order to
-// whichever rank asks (a dynamic work queue: series differ thirtyfold in cost, so a static split
-// would leave ranks idle), computes jobs itself on a second thread, journals each row as it arrives
-// and alone holds the rows at the end. Each rank runs one job at a time; `threads` applies to a
-// single process.
+// With MPI and more than one rank, rank 0 deals the jobs out in the grid's order to whichever rank
+// asks, two in each rank's hand (a dynamic work queue: bench series differ tenfold in cost, so a
+// static split would leave ranks idle), computes jobs itself on a second thread, journals each row
+// as it arrives and alone holds the rows at the end. Each rank computes one job at a time;
+// `threads` applies to a single process.
 #include <cstddef>
 #include <functional>
 #include <string>

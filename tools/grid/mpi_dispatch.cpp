@@ -3,13 +3,17 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <deque>
 #include <stdexcept>
 
 namespace dynweigh::tools::grid {
 namespace {
 
 enum Tag : int { kReady = 1, kRow = 2, kJob = 3, kStop = 4 };
-constexpr std::chrono::microseconds kIdleWait{250};
+// Each rank holds two jobs: it starts the next while its last row travels to rank 0 and rank 0
+// answers, so it never waits on the dispatcher, which may then sleep between looks.
+constexpr int kJobsInHand = 2;
+constexpr std::chrono::microseconds kIdleWait{5000};
 
 struct Message {
   int source = 0;
@@ -57,6 +61,7 @@ void take_row(const Message& message, const std::vector<std::string>& keys, RowC
 void deal_out_jobs(const ParallelSession& session, const std::vector<std::string>& keys, JobQueue& queue,
                    const ComputeRow& compute, RowCollector& collector) {
   LocalWorkers own(queue, compute, session.writer_may_compute() ? 1u : 0u);
+  std::vector<int> in_hand(std::size_t(session.size()), 0);  // jobs dealt to a rank, rows not yet back
   int serving = session.size() - 1;
   while (serving > 0 || collector.missing() > 0) {
     bool busy = false;
@@ -66,18 +71,22 @@ void deal_out_jobs(const ParallelSession& session, const std::vector<std::string
     if (arrived) {
       busy = true;
       const Message message = receive(status);
-      if (message.tag == kRow) take_row(message, keys, collector);
-      std::size_t job = 0;
-      if (queue.take(job)) {
+      int& dealt = in_hand[std::size_t(message.source)];
+      if (message.tag == kRow) {
+        take_row(message, keys, collector);
+        --dealt;
+      }
+      for (std::size_t job = 0; dealt < kJobsInHand && queue.take(job); ++dealt) {
         send(std::to_string(job), message.source, kJob);
-      } else {
+      }
+      if (dealt == 0) {
         send("", message.source, kStop);
         --serving;
       }
     }
-    // Idle, wait a quarter millisecond for our own thread rather than spin on the probe: on a
-    // machine with as many ranks as cores this thread must not take a core from the computing
-    // ones, and a rank waiting for its next job waits at most that long.
+    // Idle, sleep on our own thread's rows rather than spin on the probe: this thread must not
+    // take a core from the computing ones (short timed sleeps are dear in a virtual machine). The
+    // other ranks do not wait for it: each holds its next job already.
     FinishedJob finished;
     while (own.next_finished(finished, busy ? std::chrono::microseconds(0) : kIdleWait)) {
       collector.accept(finished.job, std::move(finished.row));
@@ -88,13 +97,30 @@ void deal_out_jobs(const ParallelSession& session, const std::vector<std::string
 
 std::size_t serve_jobs(const std::vector<std::string>& keys, const ComputeRow& compute) {
   std::size_t computed = 0;
+  std::deque<std::size_t> in_hand;
+  bool stopped = false;
   send("", 0, kReady);
   for (;;) {
-    MPI_Status status;
-    MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
-    const Message message = receive(status);
-    if (message.tag == kStop) return computed;
-    const std::size_t job = job_number(message.text, keys.size());
+    // Take whatever rank 0 has dealt; block only with nothing left to compute.
+    while (!stopped) {
+      int arrived = 1;
+      MPI_Status status;
+      if (in_hand.empty()) {
+        MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+      } else {
+        MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
+      }
+      if (!arrived) break;
+      const Message message = receive(status);
+      if (message.tag == kStop) {
+        stopped = true;
+      } else {
+        in_hand.push_back(job_number(message.text, keys.size()));
+      }
+    }
+    if (in_hand.empty()) return computed;
+    const std::size_t job = in_hand.front();
+    in_hand.pop_front();
     send(std::to_string(job) + "\n" + keys[job] + "\n" + compute(job), 0, kRow);
     ++computed;
   }

@@ -1,11 +1,12 @@
 #pragma once
-// The MPI back-end of the grid (built with DYNWEIGH_MPI). Rank 0 deals out jobs one at a time to
-// whichever rank asks; a rank's finished row is its request for the next job. Rank 0 computes
+// The MPI back-end of the grid (built with DYNWEIGH_MPI). Rank 0 deals out jobs to whichever rank
+// asks, keeping two in each rank's hand (so a rank starts its next job while its last row travels,
+// and never waits on rank 0); a rank's finished row is its request for another. Rank 0 computes
 // jobs too, on a thread of its own, while its main thread (the only one calling MPI) serves the
 // others, so that N ranks on N cores keep N cores busy.
 //
 //   rank r -> 0: READY                      (once, at the start)
-//   0 -> rank r: JOB "<job>"  or  STOP
+//   0 -> rank r: JOB "<job>" (up to two in hand)  or  STOP (nothing left, nothing in hand)
 //   rank r -> 0: ROW "<job>\n<key>\n<row>"  (the key checks that every rank runs the same grid)
 #include <cstddef>
 #include <string>

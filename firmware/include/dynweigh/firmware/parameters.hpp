@@ -29,6 +29,7 @@ enum class ParameterId : std::uint8_t {
   twostage_band_g,
   twostage_preact_g,
   model_fine_s,
+  pile_rise,
   count
 };
 
