@@ -58,7 +58,10 @@ void DosingCycle::open_from_rest() {
 bool DosingCycle::decide_model(float net_weight_g) {
   const float target = float(result_.target_g);
   last_prediction_g_ = model_.observe(net_weight_g);
-  if (result_.strategy == DosingStrategy::learn && learning_ && model_.measuring()) {
+  // Learning also corrects a close made on the prior (a small target, closed before the stream could
+  // be measured): there the unknown start-up of the flow is the whole residual. The flow key is then
+  // the prior's, which every such fill shares.
+  if (result_.strategy == DosingStrategy::learn && learning_) {
     learning_key_ = make_learning_key(target, model_.fall_height_m(start_weight_g_ + target),
                                       model_.measured_flow_kg_s());
     last_prediction_g_ += learning_->correction_g(learning_key_);

@@ -1,6 +1,10 @@
 // dynweigh calibrate --from dem|soc|fluid --scene NAME [--out FILE]: runs a detail model of the
 // scene and writes the lumped parameters it gives into a scene file (issue 5 item 4).
+// The DEM runs are the jobs of a scenario grid (tools/grid): threads, or MPI ranks under mpirun,
+// journalled for --resume; each run is seeded by its job (the dose's seed, the sweep width's seed),
+// never by a rank or a thread, so every way of running it writes the same scene.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -9,10 +13,12 @@
 #include <vector>
 
 #include "command_line_errors.hpp"
+#include "dem_job_row.hpp"
 #include "dynweigh/granular/dem_calibration.hpp"
 #include "dynweigh/granular/soc_fluid_calibration.hpp"
 #include "dynweigh/sim/scene_file.hpp"
 #include "granular_commands.hpp"
+#include "grid_runner.hpp"
 #include "progress_bar.hpp"
 
 namespace dynweigh::tools {
@@ -27,6 +33,8 @@ struct CalibrateOptions {
   std::string out;
   std::string name;
   std::string csv;
+  std::string journal;
+  bool resume = false;
   unsigned long long seed = 1;
   int seeds = 3;
   int jobs = 1;
@@ -61,16 +69,72 @@ int write_scene(const CalibrateOptions& o, sim::Scene scene, const std::string& 
   return 0;
 }
 
+// What decides a DEM row besides its key: the scene (its name and a hash of all its parameters)
+// and the options every job shares. A resume refuses a journal written with other ones.
+std::string dem_grid_signature(const sim::Scene& base, const DemCalibrationOptions& options) {
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a
+  for (const unsigned char c : sim::scene_to_json(base)) {
+    hash ^= c;
+    hash *= 1099511628211ull;
+  }
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "calibrate dem scene=%s scene_hash=%016llx close_s=%.17g discs_across=%.17g particles=%d "
+                "sweep_close_s=%.17g",
+                base.name.c_str(), static_cast<unsigned long long>(hash), options.close_s,
+                options.discs_across_orifice, options.fill_discs, options.sweep_close_s);
+  return text;
+}
+
+// On stderr, so that stdout stays the same bytes however the grid ran (as dynweigh bench).
+void report_grid(const grid::GridOutcome& outcome, const grid::ParallelSession& session, const std::string& journal) {
+  std::string by_rank;
+  for (std::size_t count : outcome.computed_by_rank) by_rank += (by_rank.empty() ? "" : ",") + std::to_string(count);
+  std::fprintf(stderr, "computed=%zu skipped=%zu dropped_journal_lines=%zu ranks=%d computed_by_rank=%s journal=%s\n",
+               outcome.computed, outcome.skipped, outcome.dropped_journal_lines, session.size(), by_rank.c_str(),
+               journal.empty() ? "none" : journal.c_str());
+}
+
+// The DEM jobs through the grid runner; the results in the jobs' order on the writer, none on
+// the other ranks.
+std::vector<DemJobResult> run_dem_grid(const CalibrateOptions& o, const sim::Scene& base,
+                                       const std::vector<DemJob>& jobs, const DemCalibrationOptions& options,
+                                       const grid::ParallelSession& session) {
+  std::vector<std::string> keys;
+  for (const DemJob& job : jobs) keys.push_back(dem_job_key(job));
+  ProgressBar bar("calibrate dem", jobs.size(), !o.quiet && session.writer());
+  grid::GridOptions grid_options;
+  grid_options.threads = static_cast<unsigned>(o.jobs);
+  grid_options.journal_path = o.journal;
+  grid_options.resume = o.resume;
+  grid_options.signature = dem_grid_signature(base, options);
+  grid_options.progress = [&bar](std::size_t finished, std::size_t) { bar.update(finished); };
+  const grid::GridOutcome outcome = grid::run_grid(
+      session, keys, [&](std::size_t i) { return encode_dem_job_row(run_dem_job(jobs[i])); }, grid_options);
+  bar.finish();
+  std::vector<DemJobResult> results;
+  if (!session.writer()) return results;
+  for (std::size_t i = 0; i < jobs.size(); ++i) results.push_back(decode_dem_job_row(jobs[i], outcome.rows[i]));
+  if (!o.journal.empty() || session.distributed()) report_grid(outcome, session, o.journal);
+  return results;
+}
+
 int calibrate_dem(const CalibrateOptions& o, const sim::Scene& base) {
   DemCalibrationOptions options = o.dem;
   options.seeds.clear();
   for (int k = 0; k < o.seeds; ++k) options.seeds.push_back(o.seed + static_cast<unsigned long long>(k));
   if (o.no_sweep) options.sweep_orifices.clear();
   const std::vector<DemJob> jobs = dem_calibration_jobs(base, options);
-  ProgressBar bar("calibrate dem", 1000, !o.quiet);
-  const std::vector<DemJobResult> results =
-      run_dem_jobs(jobs, o.jobs, [&](double f) { bar.update(static_cast<std::uint64_t>(1000 * f)); });
-  bar.finish();
+  const grid::ParallelSession session(true);
+  std::vector<DemJobResult> results;
+  try {
+    results = run_dem_grid(o, base, jobs, options, session);
+  } catch (const std::exception& e) {
+    fail("calibrate", e.what());
+    if (session.distributed()) session.abort(1);  // the other ranks would wait for jobs forever
+    return 1;
+  }
+  if (!session.writer()) return 0;
   const DemCalibration c = calibrate_from_dem(base, results, options);
   std::printf("scene=%s\nfrom=dem\njobs=%zu\ndoses=%zu\ngrain_d_m=%.5g\n", base.name.c_str(), jobs.size(), c.doses,
               c.grain_diameter_m);
@@ -180,7 +244,10 @@ int run_calibrate_command(int argc, char** argv) {
   app.add_option("--name", o.name, "name of the calibrated scene (default: the --out file's stem)");
   app.add_option("--seed", o.seed, "first seed (dem: one dose per seed from here; soc: the heap's ties)");
   app.add_option("--csv", o.csv, "dem: write t_s, DEM (seed mean) and calibrated lumped force and released mass");
-  app.add_option("--jobs", o.jobs, "dem: threads running the DEM jobs")->check(CLI::Range(1, 256));
+  app.add_option("--jobs", o.jobs, "dem: threads running the DEM jobs (one process; under mpirun each rank runs "
+                                   "one job at a time)")->check(CLI::Range(1, 256));
+  app.add_option("--journal", o.journal, "dem: append each DEM job's result to FILE as it finishes");
+  app.add_flag("--resume", o.resume, "dem: take the journal's finished jobs, compute only the missing ones");
   app.add_flag("--quiet", o.quiet, "no progress bar");
   app.add_flag("--compare", o.compare, "dem: the lumped-vs-DEM table: run time against error");
   app.add_option("--seeds", o.seeds, "dem: doses (seeds)")->check(CLI::Range(1, 1000));
@@ -198,6 +265,10 @@ int run_calibrate_command(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return report_parse_outcome(app, e, "calibrate");
+  }
+  if (o.resume && o.journal.empty()) {
+    std::fprintf(stderr, "dynweigh calibrate: --resume needs --journal FILE\n");
+    return 2;
   }
   try {
     const std::optional<sim::Scene> base = sim::scene_by_name(o.scene);
