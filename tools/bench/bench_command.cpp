@@ -125,16 +125,6 @@ void write_png(const std::string& path, const std::vector<SeriesResult>& results
   if (pclose(gp) != 0) throw std::runtime_error("gnuplot failed drawing " + path);
 }
 
-// On stderr, so that stdout stays the same bytes however the grid ran: what this run computed,
-// what the journal already held, and how the ranks shared the work.
-void report_grid(const grid::GridOutcome& outcome, const grid::ParallelSession& session, const std::string& journal) {
-  std::string by_rank;
-  for (std::size_t count : outcome.computed_by_rank) by_rank += (by_rank.empty() ? "" : ",") + std::to_string(count);
-  std::fprintf(stderr, "computed=%zu skipped=%zu dropped_journal_lines=%zu ranks=%d computed_by_rank=%s journal=%s\n",
-               outcome.computed, outcome.skipped, outcome.dropped_journal_lines, session.size(), by_rank.c_str(),
-               journal.empty() ? "none" : journal.c_str());
-}
-
 double parse_target(const std::string& text, const Scenario& scenario) {
   double target = 0.0;
   try {
@@ -242,7 +232,7 @@ int run_bench_command(int argc, char** argv) {
     if (!session.writer()) return 0;
     std::vector<SeriesResult> results;
     for (std::size_t i = 0; i < specs.size(); ++i) results.push_back(decode_series_row(specs[i], outcome.rows[i]));
-    if (!journal.empty() || session.distributed()) report_grid(outcome, session, journal);
+    if (!journal.empty() || session.distributed()) grid::report_grid(outcome, session, journal);
 
     std::printf("| strategy | knob | scene | target g | time / t_phys (mean, max) | bias g | sd g | max dev g | class |\n");
     std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");

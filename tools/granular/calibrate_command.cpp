@@ -86,15 +86,6 @@ std::string dem_grid_signature(const sim::Scene& base, const DemCalibrationOptio
   return text;
 }
 
-// On stderr, so that stdout stays the same bytes however the grid ran (as dynweigh bench).
-void report_grid(const grid::GridOutcome& outcome, const grid::ParallelSession& session, const std::string& journal) {
-  std::string by_rank;
-  for (std::size_t count : outcome.computed_by_rank) by_rank += (by_rank.empty() ? "" : ",") + std::to_string(count);
-  std::fprintf(stderr, "computed=%zu skipped=%zu dropped_journal_lines=%zu ranks=%d computed_by_rank=%s journal=%s\n",
-               outcome.computed, outcome.skipped, outcome.dropped_journal_lines, session.size(), by_rank.c_str(),
-               journal.empty() ? "none" : journal.c_str());
-}
-
 // The DEM jobs through the grid runner; the results in the jobs' order on the writer, none on
 // the other ranks.
 std::vector<DemJobResult> run_dem_grid(const CalibrateOptions& o, const sim::Scene& base,
@@ -115,7 +106,7 @@ std::vector<DemJobResult> run_dem_grid(const CalibrateOptions& o, const sim::Sce
   std::vector<DemJobResult> results;
   if (!session.writer()) return results;
   for (std::size_t i = 0; i < jobs.size(); ++i) results.push_back(decode_dem_job_row(jobs[i], outcome.rows[i]));
-  if (!o.journal.empty() || session.distributed()) report_grid(outcome, session, o.journal);
+  if (!o.journal.empty() || session.distributed()) grid::report_grid(outcome, session, o.journal);
   return results;
 }
 

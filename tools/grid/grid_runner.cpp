@@ -1,5 +1,6 @@
 #include "grid_runner.hpp"
 
+#include <cstdio>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -81,6 +82,14 @@ GridOutcome run_grid(const ParallelSession& session, const std::vector<std::stri
   outcome.computed = serve_jobs(keys, compute);
 #endif
   return outcome;
+}
+
+void report_grid(const GridOutcome& outcome, const ParallelSession& session, const std::string& journal) {
+  std::string by_rank;
+  for (std::size_t count : outcome.computed_by_rank) by_rank += (by_rank.empty() ? "" : ",") + std::to_string(count);
+  std::fprintf(stderr, "computed=%zu skipped=%zu dropped_journal_lines=%zu ranks=%d computed_by_rank=%s journal=%s\n",
+               outcome.computed, outcome.skipped, outcome.dropped_journal_lines, session.size(), by_rank.c_str(),
+               journal.empty() ? "none" : journal.c_str());
 }
 
 }  // namespace dynweigh::tools::grid

@@ -45,6 +45,10 @@ struct GridOutcome {
 
 // Throws on a duplicate key, a key or row with a tab or line break, a journal of another
 // signature, or the first job that threw (in a distributed run the caller then aborts the job).
+// On stderr, so that stdout stays the same bytes however the grid ran: what this run computed,
+// what the journal already held, and how the ranks shared the work.
+void report_grid(const GridOutcome& outcome, const ParallelSession& session, const std::string& journal);
+
 GridOutcome run_grid(const ParallelSession& session, const std::vector<std::string>& keys, const ComputeRow& compute,
                      const GridOptions& options);
 
