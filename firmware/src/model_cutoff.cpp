@@ -47,6 +47,9 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
           ? model::closing_flow_seconds(material, g, bore_m, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
           : dead_s;
   half_transition_s_ = dead_s + Scalar(0.25) * stroke_s;
+  full_closing_duration_s_ = dead_s + stroke_s;
+  half_closing_duration_s_ = dead_s + Scalar(0.5) * stroke_s;
+  closing_duration_s_ = full_closing_duration_s_;
 
   prior_rate_kg_s_ = model::beverloo_discharge_kg_s(material, g, bore_m);
   // Opening mirrors closing: the flow that is missing at the start equals the let-through at the end.
@@ -65,9 +68,11 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   fine_ = false;
   geometry_.bore_area_m2 = full_area_m2_;
   geometry_.closing_flow_seconds = full_closing_flow_s_;
+  closing_duration_s_ = full_closing_duration_s_;
   fit_.reset();
   growth_per_jiffy_g_ = prior_rate_kg_s_ * Scalar(1000) * jiffy_s_;
-  last_fall_time_s_ = model::fall_time(Scalar(0), kGravity<Scalar>, geometry_.orifice_to_floor_m);
+  last_fall_height_m_ = geometry_.orifice_to_floor_m;
+  last_fall_time_s_ = model::fall_time(Scalar(0), kGravity<Scalar>, last_fall_height_m_);
 }
 
 template <typename Scalar>
@@ -78,6 +83,7 @@ void BasicModelCutoff<Scalar>::switch_to_half(Scalar predicted_now_g) {
   switch_jiffy_ = jiffies_;
   geometry_.bore_area_m2 = full_area_m2_ * model::open_area_fraction(Scalar(0.5));
   geometry_.closing_flow_seconds = half_closing_flow_s_;
+  closing_duration_s_ = half_closing_duration_s_;
   growth_per_jiffy_g_ *= half_flow_ratio_;
   fit_.reset();
   // The half-open stream lands a fall time after the valve has moved; fitting starts after that
@@ -112,6 +118,7 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   const auto prediction = model::predict_final(geometry_, line.value_at_newest / Scalar(1000), rate_kg_s);
   growth_per_jiffy_g_ = line.slope_per_sample;
   last_fall_time_s_ = prediction.fall_time_s;
+  last_fall_height_m_ = prediction.fall_height_m;
   return (line.value_at_newest - start_weight_g_) + Scalar(1000) * prediction.above_reading_kg;
 }
 
@@ -122,7 +129,9 @@ Scalar BasicModelCutoff<Scalar>::fall_height_m(Scalar net_weight_g) const {
 
 template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::settle_delay_s() const {
-  return geometry_.closing_flow_seconds + last_fall_time_s_;
+  // The let-through in seconds of full flow is shorter than the time it takes: a slow stroke lets the
+  // last grains go late. Those fall from the orifice at almost no speed.
+  return closing_duration_s_ + model::fall_time(Scalar(0), kGravity<Scalar>, last_fall_height_m_);
 }
 
 template class BasicModelCutoff<float>;

@@ -78,10 +78,10 @@ std::string format_line(const SeriesResult& r, const std::vector<Scenario>& scen
   char line[512];
   std::snprintf(line, sizeof line,
                 "strategy=%s knob=%g scene=%s target_g=%.0f time_ratio=%.3f time_ratio_max=%.3f bias_g=%.1f "
-                "sd_g=%.1f maxdev_g=%.1f class=%s failed=%zu",
+                "sd_g=%.1f maxdev_g=%.1f class=%s failed=%zu claim_error_max_g=%.1f",
                 bench_strategy_name(r.spec.strategy), r.spec.knob, scenarios[r.spec.scenario].name.c_str(),
                 r.spec.target_g, r.time_ratio_mean, r.time_ratio_max, r.bias_g, r.sd_g, r.max_deviation_g,
-                class_text(r.oiml_class).c_str(), r.failed);
+                class_text(r.oiml_class).c_str(), r.failed, r.worst_reported_vs_true_g);
   return line;
 }
 

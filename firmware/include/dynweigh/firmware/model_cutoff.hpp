@@ -48,6 +48,10 @@ class BasicModelCutoff {
   Scalar half_closing_flow_s_ = Scalar(0);  // in seconds of half-open flow
   Scalar half_flow_ratio_ = Scalar(0.5);  // Beverloo: half-open flow / full flow
   Scalar half_transition_s_ = Scalar(0);  // dead time and half a stroke
+  // From the close command until the valve is shut: dead time and the stroke still to travel.
+  Scalar full_closing_duration_s_ = Scalar(0);
+  Scalar half_closing_duration_s_ = Scalar(0);
+  Scalar closing_duration_s_ = Scalar(0);
   Scalar jiffy_s_ = Scalar(0.01);
   Scalar prior_rate_kg_s_ = Scalar(0);
   Scalar opening_delay_s_ = Scalar(0);
@@ -61,6 +65,7 @@ class BasicModelCutoff {
   bool impacted_ = false;
   Scalar growth_per_jiffy_g_ = Scalar(0);
   Scalar last_fall_time_s_ = Scalar(0);
+  Scalar last_fall_height_m_ = Scalar(0);
   bool fine_ = false;
   Scalar predicted_at_switch_g_ = Scalar(0);
   Scalar measured_full_rate_g_per_jiffy_ = Scalar(0);
