@@ -6,7 +6,8 @@ set -uo pipefail
 fuzzer=$1 corpus=$2 work=$3 seconds=$4 dict=${5:-}
 rm -rf "$work" && mkdir -p "$work/corpus" "$work/artifacts" || exit 1
 cp -R "$corpus"/. "$work/corpus/" || exit 1
-args=(-max_total_time="$seconds" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=4096
+# A fixed seed: CI replays the input sequence that was run here (DYNWEIGH_FUZZ_SEED=0 for a random one).
+args=(-max_total_time="$seconds" -seed="${DYNWEIGH_FUZZ_SEED:-1}" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=4096
       -artifact_prefix="$work/artifacts/")
 [ -n "$dict" ] && args+=(-dict="$dict")
 "$fuzzer" "${args[@]}" "$work/corpus" >"$work/log" 2>&1
