@@ -94,14 +94,14 @@ void expect_agreement(const Stream& s) {
               static_cast<unsigned long long>(r.double_cutoff), r.max_prediction_difference_g, r.closest_call_g);
   ASSERT_NE(r.double_cutoff, 0u) << s.name << ": the stream never reached its target";
   // Where a jiffy adds less than a few float steps of the target, float cannot tell which of two
-  // jiffies first reaches it: there a neighbouring jiffy is a tie, worth less than 0.5 d.
+  // jiffies first reaches it: near a tie the prediction wanders about the target with the noise
+  // for a few jiffies, which at such a flow are worth less than 0.5 d together.
   const double float_step_g = double(std::nextafter(float(target_g), 1e30f) - float(target_g));
   const bool decidable = s.rate_g_per_jiffy > 8.0 * float_step_g;
   const double apart = std::fabs(double(r.float_cutoff) - double(r.double_cutoff));
   if (decidable) {
     EXPECT_EQ(r.float_cutoff, r.double_cutoff) << s.name;
   } else {
-    EXPECT_LE(apart, 1.0) << s.name;
     EXPECT_LE(apart * s.rate_g_per_jiffy, 0.5 * kDivisionG) << s.name;
   }
   EXPECT_LE(r.max_prediction_difference_g, 0.5 * kDivisionG) << s.name;

@@ -84,13 +84,13 @@ TEST(LearnStrategy, CorrectsACloseMadeOnThePrior) {
     ConsoleSession c(sim::default_scene(), seed, settings);
     c.idle(100);
     const double before = c.session().plant().truth().static_kg;
-    EXPECT_EQ(lines_of(c.run({"dose 2000 learn"})).size(), 2u);
+    EXPECT_EQ(lines_of(c.run({"dose 1000 learn"})).size(), 2u);
     settings = c.session().indicator().settings();
-    errors.push_back((c.session().plant().truth().static_kg - before) * 1000.0 - 2000.0);
+    errors.push_back((c.session().plant().truth().static_kg - before) * 1000.0 - 1000.0);
   }
   double late_mean = 0.0;
   for (std::size_t i = 6; i < errors.size(); ++i) late_mean += errors[i] / 6.0;
-  std::printf("dose 2000 learn: first fill %+.1f g, mean of fills 7..12 %+.1f g\n", errors.front(), late_mean);
+  std::printf("dose 1000 learn: first fill %+.1f g, mean of fills 7..12 %+.1f g\n", errors.front(), late_mean);
   EXPECT_LT(errors.front(), -60.0);  // the prior's bias, seen by the first fill
   EXPECT_LT(std::abs(late_mean), 30.0);
 }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "dynweigh/model/platform_frequency.hpp"
+
 namespace dynweigh::firmware {
 namespace {
 
@@ -28,6 +30,9 @@ void FaultSupervisor::configure(const Parameters& p) {
   after_close_window_jiffies_ = jiffies_for(kFlowAfterCloseWindowMs, jiffy_ms);
   early_leak_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kEarlyLeakMarginMs, jiffy_ms);
   early_leak_window_jiffies_ = jiffies_for(kEarlyLeakWindowMs, jiffy_ms);
+  platform_hz_ = p.get(ParameterId::platform_hz);
+  platform_kg_ = p.get(ParameterId::platform_kg);
+  jiffy_s_ = jiffy_ms / 1000.0f;
 }
 
 void FaultSupervisor::reset() {
@@ -163,7 +168,14 @@ Fault FaultSupervisor::watch_flow(const Observation& o) {
   if (history_count_ < kHistory) return Fault::none;
   const float rate_counts = (o.filtered_g - oldest_g) * o.counts_per_gram / float(kHistory);
   if (!(rate_counts > 0.0f)) return Fault::none;
-  const float needed = std::fmax(float(kFrozenMinSamples), std::ceil(kFrozenMinCounts / rate_counts));
+  float needed = std::fmax(float(kFrozenMinSamples), std::ceil(kFrozenMinCounts / rate_counts));
+  // At a crest of the platform's ringing the flow's rise and the ring's fall cancel for a few
+  // samples: a live sensor can sit still there for up to about half a period.
+  if (platform_hz_ > 0.0f) {
+    const auto ringing = model::platform_ringing(platform_hz_, 0.0f, platform_kg_, o.filtered_g / 1000.0f);
+    const float half_period_jiffies = float(M_PI) / (ringing.omega_rad_s * jiffy_s_);
+    needed = std::fmax(needed, std::ceil(half_period_jiffies) + 2.0f);
+  }
   if (float(identical_samples_ + 1) >= needed) return Fault::sensor_frozen;
   return Fault::none;
 }

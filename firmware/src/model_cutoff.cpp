@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/platform_frequency.hpp"
 #include "dynweigh/model/valve_let_through.hpp"
 
 namespace dynweigh::firmware {
@@ -15,6 +16,18 @@ template <typename Scalar>
 constexpr model::BeverlooMaterial<Scalar> prior_material(Scalar bulk_density) {
   return {Scalar(0.58), Scalar(1.5), Scalar(0.0005), bulk_density};
 }
+// SPEC §2's platform; the observer barely depends on it (damping 0.02..0.1 changes its static
+// estimate by a few grams), so it is not a parameter.
+template <typename Scalar>
+constexpr Scalar kPlatformDamping = Scalar(0.05);
+// The silo's flow wanders by ~3 % over 0.15 s and each jiffy's landing scatters by ~7 % about it
+// (the default scene; shared/PHYSICS.md §2): the observer's noise in proportion to the flow.
+template <typename Scalar>
+constexpr Scalar kRateWalkPerJiffy = Scalar(0.0125);
+template <typename Scalar>
+constexpr Scalar kLandingScatter = Scalar(0.07);
+// The first impact's sample holds a part-jiffy of landing: a few samples more tell S from k L.
+constexpr std::uint32_t kObserverSettleJiffies = 3;
 }  // namespace
 
 template <typename Scalar>
@@ -58,6 +71,18 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   fit_.set_window(std::size_t(p.get(ParameterId::model_window_ms) / p.get(ParameterId::jiffy_ms)));
   // 20 d, or what the prior flow brings in two jiffies if that is more: a clear sign of flow.
   impact_threshold_g_ = std::fmax(Scalar(20), Scalar(2000) * prior_rate_kg_s_ * jiffy_s_);
+
+  use_observer_ = p.get(ParameterId::model_estimator) > 0.5f;
+  platform_hz_ = get(ParameterId::platform_hz);
+  platform_kg_ = get(ParameterId::platform_kg);
+  // The first grains land a stroke before the whole stream does.
+  established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
+  const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
+  auto tuning = observer_.tuning();
+  tuning.rate_walk_g = kRateWalkPerJiffy<Scalar> * prior_per_jiffy;
+  tuning.landing_scatter_g = kLandingScatter<Scalar> * prior_per_jiffy;
+  observer_.set_tuning(tuning);
+  mean_window_jiffies_ = std::fmax(Scalar(1), get(ParameterId::model_window_ms) / get(ParameterId::jiffy_ms));
 }
 
 template <typename Scalar>
@@ -70,9 +95,14 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   geometry_.closing_flow_seconds = full_closing_flow_s_;
   closing_duration_s_ = full_closing_duration_s_;
   fit_.reset();
+  observer_.stop();
+  previous_sample_g_ = start_weight_g;
+  rate_change_pending_ = false;
   growth_per_jiffy_g_ = prior_rate_kg_s_ * Scalar(1000) * jiffy_s_;
   last_fall_height_m_ = geometry_.orifice_to_floor_m;
   last_fall_time_s_ = model::fall_time(Scalar(0), kGravity<Scalar>, last_fall_height_m_);
+  const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_area_m2_, geometry_.bulk_density);
+  last_impact_speed_m_s_ = model::impact_speed(prior_v0, kGravity<Scalar>, last_fall_height_m_);
 }
 
 template <typename Scalar>
@@ -89,6 +119,8 @@ void BasicModelCutoff<Scalar>::switch_to_half(Scalar predicted_now_g) {
   // The half-open stream lands a fall time after the valve has moved; fitting starts after that
   // and the impact's settling, like at the first impact.
   impact_jiffy_ = jiffies_ + std::uint32_t(std::ceil((half_transition_s_ + last_fall_time_s_) / jiffy_s_));
+  measure_jiffy_ = impact_jiffy_ + established_jiffies_;
+  rate_change_pending_ = true;
 }
 
 template <typename Scalar>
@@ -106,13 +138,75 @@ Scalar BasicModelCutoff<Scalar>::prior_prediction_g() const {
 template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   ++jiffies_;
-  if (!impacted_ && net_weight_g - start_weight_g_ >= impact_threshold_g_) {
+  const Scalar previous_g = previous_sample_g_;
+  previous_sample_g_ = net_weight_g;
+  const bool first_impact = !impacted_ && net_weight_g - start_weight_g_ >= impact_threshold_g_;
+  if (first_impact) {
     impacted_ = true;
     impact_jiffy_ = jiffies_;
   }
-  if (impacted_ && jiffies_ > impact_jiffy_ + settle_jiffies_) fit_.push(net_weight_g);
-  if (!measuring()) return prior_prediction_g();
+  if (!use_observer_) {
+    if (impacted_ && jiffies_ > impact_jiffy_ + settle_jiffies_) fit_.push(net_weight_g);
+    return measuring() ? fitted_prediction_g() : prior_prediction_g();
+  }
+  if (first_impact) {
+    const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
+    // The jump is the stream's momentum; what has come to rest is the part of a jiffy since the
+    // first grains landed, which the valve's timing and the fall from rest tell best. A few grams
+    // of error there would otherwise read as k times less rate.
+    const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_area_m2_, geometry_.bulk_density);
+    const Scalar fall_s = model::fall_time(prior_v0, kGravity<Scalar>, geometry_.orifice_to_floor_m);
+    const Scalar landed_s = Scalar(jiffies_ - 1) * jiffy_s_ - (opening_delay_s_ + fall_s);
+    const Scalar landed_jiffies = std::fmin(std::fmax(landed_s / jiffy_s_, Scalar(0)), Scalar(1));
+    observer_.start(net_weight_g, previous_g, start_weight_g_ + landed_jiffies * prior_per_jiffy, prior_per_jiffy,
+                    Scalar(0.5) * prior_per_jiffy, prior_per_jiffy);
+    measure_jiffy_ = jiffies_ + established_jiffies_;
+  } else if (observer_.started()) {
+    if (rate_change_pending_ && jiffies_ >= impact_jiffy_) {
+      observer_.expect_rate_change(growth_per_jiffy_g_);
+      rate_change_pending_ = false;
+    }
+    track_platform();
+    observer_.observe(net_weight_g);
+    average_rate();
+  }
+  return measuring() ? observed_prediction_g() : prior_prediction_g();
+}
 
+// The mean of the observed rate since the stream was whole (first impact, or the fine feed's
+// landing), then a running mean over `model_window_ms`.
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::average_rate() {
+  if (jiffies_ < measure_jiffy_) return;
+  const Scalar averaged = Scalar(jiffies_ - measure_jiffy_ + 1);
+  const Scalar gain = Scalar(1) / std::fmin(averaged, mean_window_jiffies_);
+  mean_rate_g_per_jiffy_ += gain * (observer_.rate_g_per_jiffy() - mean_rate_g_per_jiffy_);
+}
+
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::track_platform() {
+  const auto ringing = model::platform_ringing(platform_hz_, kPlatformDamping<Scalar>, platform_kg_,
+                                               observer_.static_g() / Scalar(1000));
+  const Scalar impulse_s = last_impact_speed_m_s_ / kGravity<Scalar>;
+  observer_.set_platform(ringing.omega_rad_s * jiffy_s_, ringing.damping_ratio, impulse_s / jiffy_s_);
+}
+
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::observed_prediction_g() {
+  const Scalar equilibrium_g = observer_.equilibrium_g();
+  const Scalar per_g_per_jiffy = Scalar(1) / (Scalar(1000) * jiffy_s_);
+  const auto prediction = model::predict_final(geometry_, equilibrium_g / Scalar(1000),
+                                               observer_.rate_g_per_jiffy() * per_g_per_jiffy,
+                                               mean_rate_g_per_jiffy_ * per_g_per_jiffy);
+  growth_per_jiffy_g_ = observer_.rate_g_per_jiffy();
+  last_fall_time_s_ = prediction.fall_time_s;
+  last_fall_height_m_ = prediction.fall_height_m;
+  last_impact_speed_m_s_ = model::impact_speed(prediction.outflow_speed_m_s, kGravity<Scalar>, prediction.fall_height_m);
+  return (equilibrium_g - start_weight_g_) + Scalar(1000) * prediction.above_reading_kg;
+}
+
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::fitted_prediction_g() {
   const auto line = fit_.fit();
   const Scalar rate_kg_s = line.slope_per_sample / (Scalar(1000) * jiffy_s_);
   const auto prediction = model::predict_final(geometry_, line.value_at_newest / Scalar(1000), rate_kg_s);

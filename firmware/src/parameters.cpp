@@ -8,6 +8,7 @@ namespace {
 
 const char* const kFilterNames[] = {"none", "avg", "iir"};
 const char* const kCertifyNames[] = {"auto", "stable", "dynamic"};
+const char* const kEstimatorNames[] = {"line", "observer"};
 
 // The defaults are the thesis' setup (shared/seed table 2.2) and SPEC §2's valve. `preact_g` is
 // tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (README).
@@ -30,8 +31,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"stable_ms", "... for this long, ms", 50, 10000, 500, nullptr, 0},
     {"dose_timeout_s", "fault when a dose has not reached its target by then, s", 1, 3600, 120,
      nullptr, 0},
-    {"model_window_ms", "model strategy: flow regression window, ms", 100, 1270, 1000, nullptr, 0},
-    {"impact_settle_ms", "model strategy: ignore this long after the first impact, ms", 0, 5000, 300,
+    {"model_window_ms", "model strategy: the mean flow over this window (line: its regression window), ms", 100, 1270, 1000, nullptr, 0},
+    {"impact_settle_ms", "model strategy, line estimator: ignore this long after the first impact, ms", 0, 5000, 300,
      nullptr, 0},
     {"subjiffy", "time the close within the jiffy (valve delay byte): 1 on, 0 off", 0, 1, 1, nullptr, 0},
     {"certify", "result certification: auto (dynamic for model/learn), stable, dynamic", 0, 2, 0,
@@ -44,6 +45,12 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      "target (0: fastest)", 0, 10, 0, nullptr, 0},
     {"pile_rise", "model strategy: the heap rises in the container (1), or the fall height stays fixed (0: a "
      "level-held hopper, the ideal model)", 0, 1, 1, nullptr, 0},
+    {"model_estimator", "model strategy: observer (Kalman, sees through the ringing) or line (fit, model_window_ms)",
+     0, 1, 1, kEstimatorNames, 2},
+    {"platform_hz", "platform's natural frequency with platform_kg on it, Hz (tap test); 0: rigid", 0, 40, 12,
+     nullptr, 0},
+    {"platform_kg", "moving mass at platform_hz (platform and container when the scale reads 0), kg", 0.1f,
+     10000, 4, nullptr, 0},
 };
 
 }  // namespace

@@ -18,7 +18,8 @@ struct Scenario {
   bool material_change = false;   // halfway through a series the plant's material changes
 };
 
-enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle, learn };
+// oracle and oracle_scale are simulation-only limits that read the plant's truth (fill_series.cpp).
+enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle, learn, oracle_scale };
 const char* bench_strategy_name(BenchStrategy strategy);
 bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy);
 

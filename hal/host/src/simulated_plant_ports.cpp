@@ -27,6 +27,11 @@ firmware::PersistentSettings factory_settings(const sim::Plant& plant) {
   settings.calibration.counts_per_gram = float(plant.counts_per_gram());
   settings.calibration.zero_set = true;
   settings.calibration.span_set = true;
+  // The commissioning tap test: the platform's frequency with the empty container on it.
+  const bool rings = plant.components().has(sim::Component::platform);
+  const sim::PlatformParameters& platform = plant.scene().platform;
+  settings.parameters.set(firmware::ParameterId::platform_hz, rings ? float(platform.natural_hz) : 0.0f);
+  if (rings) settings.parameters.set(firmware::ParameterId::platform_kg, float(platform.container_kg));
   return settings;
 }
 

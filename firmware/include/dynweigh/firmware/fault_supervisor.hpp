@@ -19,7 +19,8 @@
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
 //   (at the start or later: a silo run empty).
 // - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
-//   rate that moves them by many counts in that time.
+//   rate that moves them by many counts in that time, and for longer than half a period of the
+//   platform (`platform_hz`): at a crest of its ringing a live reading can stand still that long.
 // - `flow_after_close`: after a dose's close, once dead time, stroke, the stream's fall time and a
 //   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s;
 //   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
@@ -114,6 +115,9 @@ class FaultSupervisor {
   std::uint32_t flow_reference_age_ = 0;
   float last_raw_counts_ = 0.0f;
   std::uint32_t identical_samples_ = 0;
+  float platform_hz_ = 12.0f;
+  float platform_kg_ = 4.0f;
+  float jiffy_s_ = 0.01f;
   static constexpr std::uint32_t kHistory = 32;  // filtered weights of the last jiffies: the recent rate
   float history_[kHistory] = {};
   std::uint32_t history_head_ = 0;

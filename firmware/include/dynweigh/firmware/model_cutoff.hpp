@@ -1,12 +1,15 @@
 #pragma once
-// The `model` strategy's view of a fill: it fits a line to the unfiltered weight since the stream
-// settled (slope = landing rate, end = present reading, no filter lag) and predicts the final weight
-// with the ideal model of PHYSICS §1 (corrected sign), the pile's rise and the valve's let-through.
-// Before the first impact it has no measurement and predicts from the configured geometry instead.
+// The `model` strategy's view of a fill: from the first impact a Kalman observer separates the
+// static mass and the landing rate from the platform's ringing (no filter lag; `model_estimator
+// line` fits a line to the unfiltered weight instead, once the ringing has calmed), and the final
+// weight follows from the ideal model of PHYSICS §1 (corrected sign), the pile's rise and the
+// valve's let-through. Before the first impact it has no measurement and predicts from the
+// configured geometry and the valve's timing instead.
 #include <cstdint>
 
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/model/final_weight_prediction.hpp"
+#include "dynweigh/model/ringing_flow_observer.hpp"
 #include "dynweigh/model/sliding_line_fit.hpp"
 
 namespace dynweigh::firmware {
@@ -28,7 +31,9 @@ class BasicModelCutoff {
   Scalar growth_per_jiffy_g() const { return growth_per_jiffy_g_; }
   // Seconds from the close command until the last grain has landed.
   Scalar settle_delay_s() const;
-  bool measuring() const { return fit_.count() >= kMinimumFitSamples; }
+  bool measuring() const {
+    return use_observer_ ? observer_.started() && jiffies_ > measure_jiffy_ : fit_.count() >= kMinimumFitSamples;
+  }
   Scalar measured_flow_kg_s() const { return growth_per_jiffy_g_ / (Scalar(1000) * jiffy_s_); }
   // Orifice to pile top once `net_weight_g` is on the scale (the learning table's key).
   Scalar fall_height_m(Scalar net_weight_g) const;
@@ -41,6 +46,10 @@ class BasicModelCutoff {
 
  private:
   Scalar prior_prediction_g() const;
+  Scalar observed_prediction_g();
+  Scalar fitted_prediction_g();
+  void track_platform();
+  void average_rate();
 
   model::CutoffGeometry<Scalar> geometry_;
   Scalar full_area_m2_ = Scalar(0);
@@ -58,6 +67,17 @@ class BasicModelCutoff {
   std::uint32_t settle_jiffies_ = 30;
   Scalar impact_threshold_g_ = Scalar(20);
   model::SlidingLineFit<Scalar, 128> fit_;
+  model::RingingFlowObserver<Scalar> observer_;
+  bool use_observer_ = true;
+  Scalar platform_hz_ = Scalar(12);
+  Scalar platform_kg_ = Scalar(4);
+  std::uint32_t established_jiffies_ = 0;  // from the first grain until the stream is whole
+  std::uint32_t measure_jiffy_ = 0;
+  Scalar previous_sample_g_ = Scalar(0);
+  Scalar last_impact_speed_m_s_ = Scalar(0);
+  bool rate_change_pending_ = false;
+  Scalar mean_rate_g_per_jiffy_ = Scalar(0);
+  Scalar mean_window_jiffies_ = Scalar(100);
 
   Scalar start_weight_g_ = Scalar(0);
   std::uint32_t jiffies_ = 0;

@@ -30,6 +30,9 @@ enum class ParameterId : std::uint8_t {
   twostage_preact_g,
   model_fine_s,
   pile_rise,
+  model_estimator,
+  platform_hz,
+  platform_kg,
   count
 };
 

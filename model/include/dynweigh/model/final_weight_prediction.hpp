@@ -34,14 +34,19 @@ struct FinalPrediction {
   Scalar fall_time_s = 0;
 };
 
-// `reading_kg` is the present reading and `reading_rate_kg_s` its slope, which is the landing rate.
+// `reading_kg` is the present reading (or the observer's equilibrium: the reading without the
+// ringing) and `reading_rate_kg_s` its slope, which is the landing rate now: it sets the impact's
+// share of the reading. `mean_rate_kg_s` is the landing rate over a longer time: the material in
+// flight and the valve's let-through leave the orifice after what is landing now, and the silo's
+// flow forgets its wandering within a fraction of a fall, so the mean foretells them best.
 template <typename Scalar>
 FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Scalar reading_kg,
-                                      Scalar reading_rate_kg_s) {
+                                      Scalar reading_rate_kg_s, Scalar mean_rate_kg_s) {
   FinalPrediction<Scalar> p;
   const Scalar landing = reading_rate_kg_s > Scalar(0) ? reading_rate_kg_s : Scalar(0);
+  const Scalar mean_landing = mean_rate_kg_s > Scalar(0) ? mean_rate_kg_s : Scalar(0);
   p.static_kg = reading_kg;
-  p.release_kg_s = landing;
+  p.release_kg_s = mean_landing;
   Scalar impulse_kg = 0;
   // Two fixed-point passes: the static mass sets h, h sets the impulse, the impulse the static mass.
   for (int pass = 0; pass < 2; ++pass) {
@@ -50,9 +55,9 @@ FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Sc
                           : geometry.orifice_to_floor_m;
     p.outflow_speed_m_s = outflow_speed(p.release_kg_s, geometry.bore_area_m2, geometry.bulk_density);
     const Scalar v = impact_speed(p.outflow_speed_m_s, geometry.g, p.fall_height_m);
-    const Scalar rise = geometry.pile_grows ? pile_rise_m_per_kg(geometry.pile, p.static_kg) * landing
+    const Scalar rise = geometry.pile_grows ? pile_rise_m_per_kg(geometry.pile, p.static_kg) * mean_landing
                                             : Scalar(0);
-    p.release_kg_s = landing * v / (v + rise);
+    p.release_kg_s = mean_landing * v / (v + rise);
     impulse_kg = landing * v / geometry.g;
     p.static_kg = reading_kg - impulse_kg;
   }
@@ -61,6 +66,12 @@ FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Sc
   p.above_reading_kg = p.in_flight_kg + p.release_kg_s * geometry.closing_flow_seconds - impulse_kg;
   p.final_kg = reading_kg + p.above_reading_kg;
   return p;
+}
+
+template <typename Scalar>
+FinalPrediction<Scalar> predict_final(const CutoffGeometry<Scalar>& geometry, Scalar reading_kg,
+                                      Scalar reading_rate_kg_s) {
+  return predict_final(geometry, reading_kg, reading_rate_kg_s, reading_rate_kg_s);
 }
 
 }  // namespace dynweigh::model
