@@ -35,14 +35,20 @@ class RingingFlowObserver {
   const Tuning& tuning() const { return tuning_; }
 
   // Angular frequency in radians per jiffy (2 pi f T) and damping ratio of the platform now, and
-  // the impact's lag k = v / g in jiffies (the force per landing rate).
+  // the impact's lag k = v / g in jiffies (the force per landing rate). The load cell carries the
+  // platform's whole support, the spring's force and the damper's: it reads y + (2 zeta / w) u.
   void set_platform(Scalar omega_per_jiffy, Scalar damping_ratio, Scalar impulse_jiffies) {
     const auto moved = [](Scalar now, Scalar before) { return std::fabs(now - before) > Scalar(0.002) * before; };
-    if (!moved(omega_per_jiffy, omega_) && !moved(impulse_jiffies, impulse_jiffies_) && damping_ratio == zeta_) return;
+    if (!moved(omega_per_jiffy, omega_) && !moved(impulse_jiffies, impulse_jiffies_) && damping_ratio == zeta_) {
+      return;
+    }
     omega_ = omega_per_jiffy;
     zeta_ = damping_ratio;
     impulse_jiffies_ = impulse_jiffies;
     transition_ = discretize(omega_, zeta_, impulse_jiffies_);
+    reads_.setZero();
+    reads_(kReading) = Scalar(1);
+    if (omega_ > Scalar(0)) reads_(kReadingRate) = Scalar(2) * zeta_ / omega_;
     // One jiffy's scatter lands in S and pushes the platform through k for that jiffy.
     scatter_ << Scalar(1), Scalar(0), impulse_jiffies_ * transition_(kReading, kStatic),
         impulse_jiffies_ * transition_(kReadingRate, kStatic);
@@ -72,20 +78,20 @@ class RingingFlowObserver {
   // One sample per jiffy; returns false when the sample was set aside as an outlier.
   bool observe(Scalar reading_g) {
     predict();
-    const Scalar innovation = (reading_g - reference_g_) - x_(kReading);
+    const Scalar innovation = (reading_g - reference_g_) - reads_.dot(x_);
     const Scalar noise = tuning_.sample_noise_g * tuning_.sample_noise_g;
-    const Scalar innovation_variance = P_(kReading, kReading) + noise;
+    const Vector p_reads = P_ * reads_;
+    const Scalar innovation_variance = reads_.dot(p_reads) + noise;
     const Scalar limit = tuning_.outlier_sigmas * tuning_.outlier_sigmas * innovation_variance;
     if (innovation * innovation > limit && ++outliers_in_a_row_ <= tuning_.outliers_before_accepting) {
       ++rejected_;
       return false;
     }
     outliers_in_a_row_ = 0;
-    const Vector gain = P_.col(kReading) / innovation_variance;
+    const Vector gain = p_reads / innovation_variance;
     x_ += gain * innovation;
     // Joseph form: keeps P symmetric and positive in float.
-    Matrix i_kh = Matrix::Identity();
-    i_kh.col(kReading) -= gain;
+    const Matrix i_kh = Matrix::Identity() - gain * reads_.transpose();
     P_ = i_kh * P_ * i_kh.transpose() + gain * noise * gain.transpose();
     return true;
   }
@@ -94,7 +100,8 @@ class RingingFlowObserver {
   Scalar rate_g_per_jiffy() const { return x_(kRate); }
   // The force as grams without the ringing: what the reading would be on a rigid scale.
   Scalar equilibrium_g() const { return static_g() + impulse_jiffies_ * x_(kRate); }
-  Scalar ringing_g() const { return x_(kReading) - x_(kStatic) - impulse_jiffies_ * x_(kRate); }
+  // What the reading holds beyond the force: the platform's ringing (as the load cell reads it).
+  Scalar ringing_g() const { return reads_.dot(x_) - x_(kStatic) - impulse_jiffies_ * x_(kRate); }
   Scalar static_sd_g() const { return std::sqrt(std::fmax(P_(kStatic, kStatic), Scalar(0))); }
   Scalar rate_sd_g() const { return std::sqrt(std::fmax(P_(kRate, kRate), Scalar(0))); }
   unsigned rejected_samples() const { return rejected_; }
@@ -152,6 +159,7 @@ class RingingFlowObserver {
   Scalar zeta_ = Scalar(0);
   Scalar impulse_jiffies_ = Scalar(0);
   Vector scatter_ = Vector::Zero();
+  Vector reads_ = Vector::Unit(kReading);
   Matrix transition_ = Matrix::Identity();
   Vector x_ = Vector::Zero();
   Matrix P_ = Matrix::Zero();
