@@ -33,6 +33,8 @@ constexpr CommandSpec kCommands[] = {
     {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
     {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them all (persists)",
      &Indicator::command_learn},
+    {"estimates", "estimates  what the last model dose measured: first impact, dead time, flow, impulse",
+     &Indicator::command_estimates},
     {"help", "help  this list", &Indicator::command_help},
     {"version", "version  firmware version", &Indicator::command_version},
 };
@@ -301,6 +303,36 @@ void Indicator::command_learn(const Arguments& args) {
     console_.write_int(e.fills);
     console_.put('\n');
   }
+  ok();
+}
+
+namespace {
+void write_estimate(TextWriter& out, const char* key, bool known, float value, int decimals) {
+  out.put(' ');
+  out.write(key);
+  out.put('=');
+  if (known) {
+    out.write_decimal(value, decimals);
+  } else {
+    out.write("none");
+  }
+}
+}  // namespace
+
+void Indicator::command_estimates(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: estimates");
+  const DoseEstimates<float>& e = dosing_.model_estimates();
+  if (!e.impact_timed && !e.measured) return error(2, "no model dose measured yet");
+  const auto& s = e.signature;
+  console_.write("ESTIMATES");
+  write_estimate(console_, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
+  write_estimate(console_, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
+  write_estimate(console_, "flow_kg_s", e.measured, e.flow_kg_s, 3);
+  write_estimate(console_, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
+  write_estimate(console_, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
+  write_estimate(console_, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
+  write_estimate(console_, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+  console_.put('\n');
   ok();
 }
 

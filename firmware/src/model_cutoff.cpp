@@ -26,6 +26,12 @@ template <typename Scalar>
 constexpr Scalar kRateWalkPerJiffy = Scalar(0.0125);
 template <typename Scalar>
 constexpr Scalar kLandingScatter = Scalar(0.07);
+// The load cell's noise and its 1 d rounding, in grams: the opening estimator's floor.
+template <typename Scalar>
+constexpr Scalar kSampleNoiseG = Scalar(0.5);
+// The impact's signature is read this long after the stream is whole: the observer has settled and
+// the landed mass is still small beside the impulse.
+constexpr std::uint32_t kSignatureJiffies = 20;
 // The first impact's sample holds a part-jiffy of landing: a few samples more tell S from k L.
 constexpr std::uint32_t kObserverSettleJiffies = 3;
 }  // namespace
@@ -75,6 +81,11 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   use_observer_ = p.get(ParameterId::model_estimator) > 0.5f;
   platform_hz_ = get(ParameterId::platform_hz);
   platform_kg_ = get(ParameterId::platform_kg);
+  // The plant's and a real platform's load cell carry the damper's force too.
+  opening_ = model::OpeningEstimator<Scalar>(
+      model::PlatformResponse<Scalar>{platform_hz_, kPlatformDamping<Scalar>, platform_hz_ > Scalar(0)});
+  dead_s_ = dead_s;
+  ramp_delay_s_ = std::fmax(Scalar(0), opening_delay_s_ - dead_s);
   // The first grains land a stroke before the whole stream does.
   established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
   const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
@@ -96,6 +107,8 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   closing_duration_s_ = full_closing_duration_s_;
   fit_.reset();
   observer_.stop();
+  opening_.start(start_weight_g, jiffy_s_, kSampleNoiseG<Scalar>);
+  estimates_ = DoseEstimates<Scalar>{};
   previous_sample_g_ = start_weight_g;
   rate_change_pending_ = false;
   growth_per_jiffy_g_ = prior_rate_kg_s_ * Scalar(1000) * jiffy_s_;
@@ -138,6 +151,7 @@ Scalar BasicModelCutoff<Scalar>::prior_prediction_g() const {
 template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   ++jiffies_;
+  estimate_opening(net_weight_g);
   const Scalar previous_g = previous_sample_g_;
   previous_sample_g_ = net_weight_g;
   const bool first_impact = !impacted_ && net_weight_g - start_weight_g_ >= impact_threshold_g_;
@@ -173,6 +187,30 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   return measuring() ? observed_prediction_g() : prior_prediction_g();
 }
 
+// The first impact, timed within the jiffy, and once the stream has run a while the impulse it
+// brings: both for the console's `estimates`, which tell an installer whether the valve's timing
+// and the geometry typed in agree with what the scale sees.
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::estimate_opening(Scalar net_weight_g) {
+  if (!estimates_.impact_timed) {
+    // The sample of the n-th jiffy is the opening estimator's sample n - 1 (0 at the command).
+    opening_.observe(net_weight_g);
+    if (opening_.impact_found()) {
+      estimates_.impact_timed = true;
+      estimates_.first_impact_s = opening_.first_impact_s();
+      // The first grains fall to the pile left by earlier fills, not to the floor.
+      estimates_.dead_time_s = opening_.dead_time_s(fall_height_m(start_weight_g_), kGravity<Scalar>);
+    }
+  }
+  if (!use_observer_ || !estimates_.impact_timed || estimates_.signature.valid || !measuring() || fine_) return;
+  if (jiffies_ < measure_jiffy_ + kSignatureJiffies) return;
+  const model::ImpactObservation<Scalar> seen{
+      (use_observer_ ? observer_.equilibrium_g() : net_weight_g) - start_weight_g_,
+      Scalar(jiffies_ - 1) * jiffy_s_, mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_),
+      model::landing_start_s(estimates_.first_impact_s, ramp_delay_s_)};
+  estimates_.signature = model::impact_signature(seen, full_area_m2_, geometry_.bulk_density, kGravity<Scalar>);
+}
+
 // The mean of the observed rate since the stream was whole (first impact, or the fine feed's
 // landing), then a running mean over `model_window_ms`.
 template <typename Scalar>
@@ -199,6 +237,8 @@ Scalar BasicModelCutoff<Scalar>::observed_prediction_g() {
                                                observer_.rate_g_per_jiffy() * per_g_per_jiffy,
                                                mean_rate_g_per_jiffy_ * per_g_per_jiffy);
   growth_per_jiffy_g_ = observer_.rate_g_per_jiffy();
+  estimates_.measured = true;
+  estimates_.flow_kg_s = mean_rate_g_per_jiffy_ * per_g_per_jiffy;
   last_fall_time_s_ = prediction.fall_time_s;
   last_fall_height_m_ = prediction.fall_height_m;
   last_impact_speed_m_s_ = model::impact_speed(prediction.outflow_speed_m_s, kGravity<Scalar>, prediction.fall_height_m);
@@ -211,6 +251,8 @@ Scalar BasicModelCutoff<Scalar>::fitted_prediction_g() {
   const Scalar rate_kg_s = line.slope_per_sample / (Scalar(1000) * jiffy_s_);
   const auto prediction = model::predict_final(geometry_, line.value_at_newest / Scalar(1000), rate_kg_s);
   growth_per_jiffy_g_ = line.slope_per_sample;
+  estimates_.measured = true;
+  estimates_.flow_kg_s = rate_kg_s;
   last_fall_time_s_ = prediction.fall_time_s;
   last_fall_height_m_ = prediction.fall_height_m;
   return (line.value_at_newest - start_weight_g_) + Scalar(1000) * prediction.above_reading_kg;

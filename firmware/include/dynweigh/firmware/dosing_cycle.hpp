@@ -52,6 +52,8 @@ class DosingCycle {
   float adapted_twostage_preact_g() const { return twostage_preact_g_; }
   // The kind of fill the learn strategy closed: where its residual belongs.
   const LearningKey& learning_key() const { return learning_key_; }
+  // What the last model or learn dose measured of the valve and the material.
+  const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
 
  private:
   void open_from_rest();

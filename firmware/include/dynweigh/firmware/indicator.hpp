@@ -53,6 +53,7 @@ class Indicator {
   void command_valve(const Arguments& args);
   void command_clearfault(const Arguments& args);
   void command_learn(const Arguments& args);
+  void command_estimates(const Arguments& args);
   void command_help(const Arguments& args);
   void command_version(const Arguments& args);
 

@@ -9,10 +9,24 @@
 
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/model/final_weight_prediction.hpp"
+#include "dynweigh/model/impact_signature.hpp"
+#include "dynweigh/model/opening_estimator.hpp"
 #include "dynweigh/model/ringing_flow_observer.hpp"
 #include "dynweigh/model/sliding_line_fit.hpp"
 
 namespace dynweigh::firmware {
+
+// What a dose told about the valve and the material (the console's `estimates`): the first impact
+// and the valve's dead time it implies, the flow, and the impact's signature early in the stream.
+template <typename Scalar>
+struct DoseEstimates {
+  bool impact_timed = false;
+  Scalar first_impact_s = 0;  // from the open command
+  Scalar dead_time_s = 0;     // the first impact less the fall from rest (opening_estimator.hpp)
+  bool measured = false;
+  Scalar flow_kg_s = 0;       // the mean landing rate at the last prediction
+  model::ImpactSignature<Scalar> signature{};
+};
 
 // Scalar is float on the target; the double instantiation is the reference the numerical stress
 // tests run beside it.
@@ -43,6 +57,7 @@ class BasicModelCutoff {
   // grows at the half-open flow Beverloo gives.
   void switch_to_half(Scalar predicted_now_g);
   bool fine_feeding() const { return fine_; }
+  const DoseEstimates<Scalar>& estimates() const { return estimates_; }
 
  private:
   Scalar prior_prediction_g() const;
@@ -50,6 +65,7 @@ class BasicModelCutoff {
   Scalar fitted_prediction_g();
   void track_platform();
   void average_rate();
+  void estimate_opening(Scalar net_weight_g);
 
   model::CutoffGeometry<Scalar> geometry_;
   Scalar full_area_m2_ = Scalar(0);
@@ -75,6 +91,10 @@ class BasicModelCutoff {
   std::uint32_t measure_jiffy_ = 0;
   Scalar previous_sample_g_ = Scalar(0);
   Scalar last_impact_speed_m_s_ = Scalar(0);
+  model::OpeningEstimator<Scalar> opening_{model::PlatformResponse<Scalar>{}};
+  Scalar ramp_delay_s_ = Scalar(0);  // the landed mass's line starts this long after the first grain
+  Scalar dead_s_ = Scalar(0);
+  DoseEstimates<Scalar> estimates_{};
   bool rate_change_pending_ = false;
   Scalar mean_rate_g_per_jiffy_ = Scalar(0);
   Scalar mean_window_jiffies_ = Scalar(100);

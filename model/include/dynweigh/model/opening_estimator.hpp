@@ -78,6 +78,7 @@ class OpeningEstimator {
     jiffy_s_ = jiffy_s;
     // Far above the noise and the 1 g division: a quiet scale never crosses it twice running.
     threshold_g_ = std::max(Scalar(5), Scalar(8) * noise_g);
+    search_ = Search{};
     count_ = 0;
     first_risen_ = 0;
     rising_ = false;
@@ -86,8 +87,11 @@ class OpeningEstimator {
   }
 
   // One reading per jiffy, from the open command on. Does nothing before start() or once found.
+  // Once the rise is confirmed the readings are no longer needed: the fit runs over the next
+  // jiffies, kFitsPerJiffy trial onsets at a time, so no jiffy of a control loop pays for all.
   void observe(Scalar reading_g) {
     if (found_ || !(jiffy_s_ > Scalar(0))) return;
+    if (search_.phase != Search::Phase::idle) return continue_search();
     const std::size_t k = count_++;
     history_[k % kHistory] = reading_g - baseline_g_;
     // Two running samples above the threshold, the second not lower: a lone spike falls back
@@ -96,10 +100,7 @@ class OpeningEstimator {
       rising_ = true;
       first_risen_ = k - 1;
     }
-    if (rising_ && k + 1 >= first_risen_ + kRisenSamples) {
-      onset_ = fit_onset();
-      found_ = true;
-    }
+    if (rising_ && k + 1 >= first_risen_ + kRisenSamples) begin_search();
   }
 
   bool impact_found() const { return found_; }
@@ -129,6 +130,10 @@ class OpeningEstimator {
   // the best cell to well below a microsecond; about 70 fits of six samples in all.
   static constexpr int kGridPoints = 41;
   static constexpr int kRefineIterations = 24;
+  // Trial onsets per jiffy: ~1,600 instructions each on a Cortex-M4F, so the search costs a
+  // control jiffy about 10,000 and ends ~12 jiffies after the rise is confirmed.
+  static constexpr int kFitsPerJiffy = 6;
+  static constexpr Scalar kGolden = Scalar(0.6180339887498949);
 
   struct Onset {
     Scalar time_s = 0;
@@ -187,39 +192,71 @@ class OpeningEstimator {
     return {t0, step, slope / jiffy_s_, residual};
   }
 
-  Onset fit_onset() const {
-    // Before the first risen sample, and not two jiffies before it: the quiet ones would have
-    // risen by then.
-    const Scalar latest = time_of(first_risen_);
-    const Scalar earliest = std::max(Scalar(0), latest - Scalar(2) * jiffy_s_);
-    const Scalar spacing = (latest - earliest) / Scalar(kGridPoints - 1);
-    Onset best = fit_at(earliest);
+  // A grid of trial onsets over the two jiffies before the first risen sample (the quiet ones
+  // would have risen by then), then a golden section on the best cell.
+  struct Search {
+    enum class Phase { idle, grid, golden } phase = Phase::idle;
+    Scalar earliest = 0, spacing = 0;
+    int next = 0;  // grid point, or golden iteration
     int best_index = 0;
-    for (int i = 1; i < kGridPoints; ++i) {
-      const Onset candidate = fit_at(earliest + spacing * Scalar(i));
-      if (candidate.residual < best.residual) {
-        best = candidate;
-        best_index = i;
-      }
-    }
-    const Scalar golden = Scalar(0.6180339887498949);
-    Scalar low = earliest + spacing * Scalar(std::max(best_index - 1, 0));
-    Scalar high = earliest + spacing * Scalar(std::min(best_index + 1, kGridPoints - 1));
-    Scalar a = high - golden * (high - low), b = low + golden * (high - low);
-    Onset fa = fit_at(a), fb = fit_at(b);
-    for (int i = 0; i < kRefineIterations; ++i) {
-      if (fa.residual <= fb.residual) {
-        high = b, b = a, fb = fa;
-        a = high - golden * (high - low);
-        fa = fit_at(a);
+    Onset best{};
+    Scalar low = 0, high = 0, a = 0, b = 0;
+    Onset fa{}, fb{};
+  };
+
+  void begin_search() {
+    const Scalar latest = time_of(first_risen_);
+    search_ = Search{};
+    search_.phase = Search::Phase::grid;
+    search_.earliest = std::max(Scalar(0), latest - Scalar(2) * jiffy_s_);
+    search_.spacing = (latest - search_.earliest) / Scalar(kGridPoints - 1);
+    search_.best = fit_at(search_.earliest);
+    search_.next = 1;
+  }
+
+  void continue_search() {
+    for (int fits = 0; fits < kFitsPerJiffy && !found_; ++fits) {
+      if (search_.phase == Search::Phase::grid) {
+        grid_step();
       } else {
-        low = a, a = b, fa = fb;
-        b = low + golden * (high - low);
-        fb = fit_at(b);
+        golden_step();
       }
     }
-    const Onset& refined = fa.residual <= fb.residual ? fa : fb;
-    return refined.residual <= best.residual ? refined : best;
+  }
+
+  void grid_step() {
+    Search& s = search_;
+    const Onset candidate = fit_at(s.earliest + s.spacing * Scalar(s.next));
+    if (candidate.residual < s.best.residual) {
+      s.best = candidate;
+      s.best_index = s.next;
+    }
+    if (++s.next < kGridPoints) return;
+    s.low = s.earliest + s.spacing * Scalar(std::max(s.best_index - 1, 0));
+    s.high = s.earliest + s.spacing * Scalar(std::min(s.best_index + 1, kGridPoints - 1));
+    s.a = s.high - kGolden * (s.high - s.low);
+    s.b = s.low + kGolden * (s.high - s.low);
+    s.fa = fit_at(s.a);
+    s.fb = fit_at(s.b);
+    s.phase = Search::Phase::golden;
+    s.next = 0;
+  }
+
+  void golden_step() {
+    Search& s = search_;
+    if (s.fa.residual <= s.fb.residual) {
+      s.high = s.b, s.b = s.a, s.fb = s.fa;
+      s.a = s.high - kGolden * (s.high - s.low);
+      s.fa = fit_at(s.a);
+    } else {
+      s.low = s.a, s.a = s.b, s.fa = s.fb;
+      s.b = s.low + kGolden * (s.high - s.low);
+      s.fb = fit_at(s.b);
+    }
+    if (++s.next < kRefineIterations) return;
+    const Onset& refined = s.fa.residual <= s.fb.residual ? s.fa : s.fb;
+    onset_ = refined.residual <= s.best.residual ? refined : s.best;
+    found_ = true;
   }
 
   PlatformResponse<Scalar> platform_;
@@ -232,6 +269,7 @@ class OpeningEstimator {
   bool rising_ = false;
   bool found_ = false;
   Onset onset_{};
+  Search search_{};
 };
 
 }  // namespace dynweigh::model
