@@ -121,8 +121,13 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
 template <typename Scalar>
 void BasicModelCutoff<Scalar>::switch_to_half(Scalar predicted_now_g) {
   fine_ = true;
-  predicted_at_switch_g_ = predicted_now_g;
   measured_full_rate_g_per_jiffy_ = growth_per_jiffy_g_;
+  // The prediction now assumed a close from full open. From half open the valve lets less through,
+  // and until it reaches half the flow is still (about) full.
+  const Scalar full_per_s = measured_full_rate_g_per_jiffy_ / jiffy_s_;
+  const Scalar half_per_s = full_per_s * half_flow_ratio_;
+  predicted_at_switch_g_ = predicted_now_g - full_per_s * full_closing_flow_s_ + half_per_s * half_closing_flow_s_ +
+                           (full_per_s - half_per_s) * half_transition_s_;
   switch_jiffy_ = jiffies_;
   geometry_.bore_area_m2 = full_area_m2_ * model::open_area_fraction(Scalar(0.5));
   geometry_.closing_flow_seconds = half_closing_flow_s_;

@@ -149,7 +149,7 @@ std::vector<SeriesSpec> series_specs(const std::string& strategies, const std::s
     std::vector<double> knobs{0.0};
     if (two_stage) knobs = sweep ? std::vector<double>{0.25, 0.5, 1.0, 1.5, 2.5} : std::vector<double>{1.0};
     if ((strategy == BenchStrategy::model || strategy == BenchStrategy::learn) && sweep) {
-      knobs = {0.0, 0.5, 1.0, 1.5, 2.5};
+      knobs = {0.0, 0.25, 0.5, 1.0, 1.5, 2.5};
     }
     for (double knob : knobs) {
       for (std::size_t s = 0; s < scenarios.size(); ++s) {
