@@ -84,7 +84,6 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   // The plant's and a real platform's load cell carry the damper's force too.
   opening_ = model::OpeningEstimator<Scalar>(
       model::PlatformResponse<Scalar>{platform_hz_, kPlatformDamping<Scalar>, platform_hz_ > Scalar(0)});
-  dead_s_ = dead_s;
   ramp_delay_s_ = std::fmax(Scalar(0), opening_delay_s_ - dead_s);
   // The first grains land a stroke before the whole stream does.
   established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
@@ -174,7 +173,7 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
     // first grains landed, which the valve's timing and the fall from rest tell best. A few grams
     // of error there would otherwise read as k times less rate.
     const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_area_m2_, geometry_.bulk_density);
-    const Scalar fall_s = model::fall_time(prior_v0, kGravity<Scalar>, geometry_.orifice_to_floor_m);
+    const Scalar fall_s = model::fall_time(prior_v0, kGravity<Scalar>, first_fall_height_m());
     const Scalar landed_s = Scalar(jiffies_ - 1) * jiffy_s_ - (opening_delay_s_ + fall_s);
     const Scalar landed_jiffies = std::fmin(std::fmax(landed_s / jiffy_s_, Scalar(0)), Scalar(1));
     observer_.start(net_weight_g, previous_g, start_weight_g_ + landed_jiffies * prior_per_jiffy, prior_per_jiffy,
@@ -203,14 +202,13 @@ void BasicModelCutoff<Scalar>::estimate_opening(Scalar net_weight_g) {
     if (opening_.impact_found()) {
       estimates_.impact_timed = true;
       estimates_.first_impact_s = opening_.first_impact_s();
-      // The first grains fall to the pile left by earlier fills, not to the floor.
-      estimates_.dead_time_s = opening_.dead_time_s(fall_height_m(start_weight_g_), kGravity<Scalar>);
+      estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), kGravity<Scalar>);
     }
   }
   if (!use_observer_ || !estimates_.impact_timed || estimates_.signature.valid || !measuring() || fine_) return;
   if (jiffies_ < measure_jiffy_ + kSignatureJiffies) return;
   const model::ImpactObservation<Scalar> seen{
-      (use_observer_ ? observer_.equilibrium_g() : net_weight_g) - start_weight_g_,
+      observer_.equilibrium_g() - start_weight_g_,
       Scalar(jiffies_ - 1) * jiffy_s_, mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_),
       model::landing_start_s(estimates_.first_impact_s, ramp_delay_s_)};
   estimates_.signature = model::impact_signature(seen, full_area_m2_, geometry_.bulk_density, kGravity<Scalar>);
@@ -261,6 +259,12 @@ Scalar BasicModelCutoff<Scalar>::fitted_prediction_g() {
   last_fall_time_s_ = prediction.fall_time_s;
   last_fall_height_m_ = prediction.fall_height_m;
   return (line.value_at_newest - start_weight_g_) + Scalar(1000) * prediction.above_reading_kg;
+}
+
+// The first grains fall to the pile left by earlier fills, not to the floor.
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::first_fall_height_m() const {
+  return geometry_.pile_grows ? fall_height_m(start_weight_g_) : geometry_.orifice_to_floor_m;
 }
 
 template <typename Scalar>

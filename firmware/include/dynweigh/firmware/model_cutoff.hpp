@@ -66,6 +66,7 @@ class BasicModelCutoff {
   void track_platform();
   void average_rate();
   void estimate_opening(Scalar net_weight_g);
+  Scalar first_fall_height_m() const;
 
   model::CutoffGeometry<Scalar> geometry_;
   Scalar full_area_m2_ = Scalar(0);
@@ -93,7 +94,6 @@ class BasicModelCutoff {
   Scalar last_impact_speed_m_s_ = Scalar(0);
   model::OpeningEstimator<Scalar> opening_{model::PlatformResponse<Scalar>{}};
   Scalar ramp_delay_s_ = Scalar(0);  // the landed mass's line starts this long after the first grain
-  Scalar dead_s_ = Scalar(0);
   DoseEstimates<Scalar> estimates_{};
   bool rate_change_pending_ = false;
   Scalar mean_rate_g_per_jiffy_ = Scalar(0);
