@@ -70,16 +70,70 @@ TEST(DoseEstimates, DeadTimeFlowAndImpulseOfTheDefaultScene) {
   EXPECT_NEAR(mean_speed, 4.9, 0.5);
 }
 
-// The installer typed the datasheet's 30 ms; the valve takes 70 ms. The dose still works on the
-// configured timing, but `estimates` shows the valve as it is.
+// The installer typed the datasheet's 30 ms; the valve takes 55 ms (much slower, and the fault
+// supervisor, which allows 40 ms of start margin on the datasheet, calls it stuck). The dose still
+// works, and `estimates` shows the valve as it is.
 TEST(DoseEstimates, RevealsAValveSlowerThanConfigured) {
   sim::Scene slow = sim::default_scene();
-  slow.valve.dead_time_s = 0.070;
+  slow.valve.dead_time_s = 0.055;
   double dead_sum = 0;
   constexpr int kSeeds = 4;
   for (int seed = 1; seed <= kSeeds; ++seed) dead_sum += dose_and_estimate(slow, seed, "dose 6000").dead_ms;
-  std::printf("valve with 70 ms dead time, configured 30 ms: measured %.1f ms\n", dead_sum / kSeeds);
-  EXPECT_NEAR(dead_sum / kSeeds, 70.0, 3.0);
+  std::printf("valve with 55 ms dead time, configured 30 ms: measured %.1f ms\n", dead_sum / kSeeds);
+  EXPECT_NEAR(dead_sum / kSeeds, 55.0, 3.0);
+}
+
+// A slow valve over a series of doses, against the same doses with a valve that keeps its datasheet:
+// from the third dose on the model times its close with the dead time it measured, and the overdose
+// the datasheet's 30 ms caused is gone.
+struct Series {
+  double first_two = 0, later = 0;
+  std::string estimates;
+};
+
+Series five_doses(double dead_time_s, std::uint64_t seed) {
+  sim::Scene scene = sim::default_scene();
+  scene.valve.dead_time_s = dead_time_s;
+  scene.silo.fill_kg = 40.0;  // five doses of 6 kg
+  ConsoleSession c(scene, seed);
+  c.idle(20);
+  Series series;
+  for (int dose = 1; dose <= 5; ++dose) {
+    const double before = c.session().plant().truth().static_kg;
+    const auto lines = lines_of(c.run({"dose 6000"}));
+    EXPECT_EQ(lines.size(), 2u) << "dose " << dose << ": " << lines.front() << " " << lines_of(c.run({"status"})).front();
+    const double error = (c.session().plant().truth().static_kg - before) * 1000.0 - 6000.0;
+    if (dose <= 2) series.first_two += error / 2;
+    if (dose >= 3) series.later += error / 3;
+  }
+  series.estimates = lines_of(c.run({"estimates"})).front();
+  return series;
+}
+
+TEST(DoseEstimates, AValveSlowerThanConfiguredIsLearnedWithinTwoDoses) {
+  constexpr int kSeeds = 4;
+  double first_two_excess = 0, later_excess = 0;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    const Series slow = five_doses(0.055, std::uint64_t(seed));
+    const Series healthy = five_doses(0.030, std::uint64_t(seed));
+    first_two_excess += (slow.first_two - healthy.first_two) / kSeeds;
+    later_excess += (slow.later - healthy.later) / kSeeds;
+    EXPECT_NEAR(std::stod(field(slow.estimates, "dead_used_ms")), 55.0, 4.0) << slow.estimates;
+    EXPECT_EQ(field(healthy.estimates, "dead_used_ms"), "30") << healthy.estimates;
+  }
+  std::printf("valve 55 ms, datasheet 30 ms, dose 6000, against a 30 ms valve: doses 1-2 %+.1f g, doses 3-5 "
+              "%+.1f g\n", first_two_excess, later_excess);
+  EXPECT_GT(first_two_excess, 30.0);  // the close comes 25 ms late: ~60 g of let-through too many
+  EXPECT_LT(std::fabs(later_excess), 15.0);
+}
+
+// Within the jitter and the estimate's error the datasheet stands: the bench's scenes dose as before.
+TEST(DoseEstimates, TheDatasheetDeadTimeStandsWhenTheValveKeepsIt) {
+  ConsoleSession c;
+  c.idle(20);
+  for (int dose = 1; dose <= 3; ++dose) ASSERT_EQ(lines_of(c.run({"dose 3000"})).size(), 2u);
+  const auto estimates = lines_of(c.run({"estimates"})).front();
+  EXPECT_EQ(field(estimates, "dead_used_ms"), "30") << estimates;
 }
 
 }  // namespace

@@ -193,14 +193,24 @@ bool FaultSupervisor::watch_early_leak(float filtered_g, float rise_g) {
 
 Fault FaultSupervisor::watch_after_close(const Observation& o) {
   if (!closed_by_dose_ || o.command_in_force != ValveCommand::closed) return Fault::none;
+  if (command_age_ == 1) settled_weight_.reset(ring_period_jiffies(o.filtered_g));
+  settled_weight_.push(o.filtered_g);
+  const float weight_g = settled_weight_.mean();
   const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
                                  kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
-  if (watch_early_leak(o.filtered_g, rise_g)) return Fault::flow_after_close;
-  if (command_age_ == rest_jiffies_) after_close_reference_g_ = o.filtered_g;
+  if (watch_early_leak(weight_g, rise_g)) return Fault::flow_after_close;
+  if (command_age_ == rest_jiffies_) after_close_reference_g_ = weight_g;
   if (command_age_ <= rest_jiffies_ || command_age_ > rest_jiffies_ + after_close_window_jiffies_) {
     return Fault::none;
   }
-  return o.filtered_g > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
+  return weight_g > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
+}
+
+// One period of the platform's ringing under the load on it, in jiffies (1 for a rigid scale).
+std::uint32_t FaultSupervisor::ring_period_jiffies(float net_g) const {
+  if (!(platform_hz_ > 0.0f)) return 1;
+  const auto ringing = model::platform_ringing(platform_hz_, 0.0f, platform_kg_, net_g / 1000.0f);
+  return std::uint32_t(std::lround(2.0f * float(M_PI) / (ringing.omega_rad_s * jiffy_s_)));
 }
 
 }  // namespace dynweigh::firmware

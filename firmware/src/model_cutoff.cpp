@@ -32,6 +32,12 @@ constexpr Scalar kSampleNoiseG = Scalar(0.5);
 // The impact's signature is read this long after the stream is whole: the observer has settled and
 // the landed mass is still small beside the impulse.
 constexpr std::uint32_t kSignatureJiffies = 20;
+// The dead time learned from the first impacts: a running mean over this many doses, used from the
+// second dose on when it is off the datasheet by more than 6 ms (2 ms jitter, ~2 ms of estimate).
+constexpr std::uint32_t kDeadTimeMemory = 8;
+constexpr std::uint32_t kDeadTimeMinDoses = 2;
+template <typename Scalar>
+constexpr Scalar kDeadTimeDeadbandS = Scalar(0.006);
 // The first impact's sample holds a part-jiffy of landing: a few samples more tell S from k L.
 constexpr std::uint32_t kObserverSettleJiffies = 3;
 }  // namespace
@@ -55,24 +61,18 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   geometry_.pile.repose_angle_rad = get(ParameterId::repose_deg) * Scalar(M_PI) / Scalar(180);
   geometry_.pile.bulk_density = density;
   geometry_.pile_grows = p.get(ParameterId::pile_rise) > 0.5f;
-  geometry_.closing_flow_seconds = model::closing_flow_seconds(material, g, bore_m, dead_s, stroke_s);
   full_area_m2_ = geometry_.bore_area_m2;
-  full_closing_flow_s_ = geometry_.closing_flow_seconds;
+  material_ = material;
+  bore_m_ = bore_m;
+  stroke_s_ = stroke_s;
+  configured_dead_s_ = dead_s;
+  measured_dead_s_ = dead_s;
+  dead_time_doses_ = 0;
   const Scalar full_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(1));
   const Scalar half_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(0.5));
   half_flow_ratio_ = full_rate > Scalar(0) ? half_rate / full_rate : Scalar(0.5);
-  half_closing_flow_s_ =
-      half_rate > Scalar(0)
-          ? model::closing_flow_seconds(material, g, bore_m, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
-          : dead_s;
-  half_transition_s_ = dead_s + Scalar(0.25) * stroke_s;
-  full_closing_duration_s_ = dead_s + stroke_s;
-  half_closing_duration_s_ = dead_s + Scalar(0.5) * stroke_s;
-  closing_duration_s_ = full_closing_duration_s_;
-
   prior_rate_kg_s_ = model::beverloo_discharge_kg_s(material, g, bore_m);
-  // Opening mirrors closing: the flow that is missing at the start equals the let-through at the end.
-  opening_delay_s_ = dead_s + stroke_s - (geometry_.closing_flow_seconds - dead_s);
+  set_valve_timing(dead_s);
   settle_jiffies_ = std::uint32_t(p.get(ParameterId::impact_settle_ms) / p.get(ParameterId::jiffy_ms));
   fit_.set_window(std::size_t(p.get(ParameterId::model_window_ms) / p.get(ParameterId::jiffy_ms)));
   // 20 d, or what the prior flow brings in two jiffies if that is more: a clear sign of flow.
@@ -84,7 +84,6 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   // The plant's and a real platform's load cell carry the damper's force too.
   opening_ = model::OpeningEstimator<Scalar>(
       model::PlatformResponse<Scalar>{platform_hz_, kPlatformDamping<Scalar>, platform_hz_ > Scalar(0)});
-  ramp_delay_s_ = std::fmax(Scalar(0), opening_delay_s_ - dead_s);
   // The first grains land a stroke before the whole stream does.
   established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
   const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
@@ -95,8 +94,49 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   mean_window_jiffies_ = std::fmax(Scalar(1), get(ParameterId::model_window_ms) / get(ParameterId::jiffy_ms));
 }
 
+// The valve's timing: its let-through while closing from full and from half open, how long it takes
+// to shut, and the flow missing at the opening. From the datasheet's dead time, or the one the scale
+// has measured over the last doses once that is clearly different.
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::set_valve_timing(Scalar dead_s) {
+  const Scalar g = kGravity<Scalar>;
+  const Scalar stroke_s = stroke_s_;
+  effective_dead_s_ = dead_s;
+  full_closing_flow_s_ = model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s);
+  const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g, bore_m_, Scalar(1));
+  const Scalar half_rate = full_rate * half_flow_ratio_;
+  half_closing_flow_s_ =
+      half_rate > Scalar(0)
+          ? model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
+          : dead_s;
+  half_transition_s_ = dead_s + Scalar(0.25) * stroke_s;
+  full_closing_duration_s_ = dead_s + stroke_s;
+  half_closing_duration_s_ = dead_s + Scalar(0.5) * stroke_s;
+  // Opening mirrors closing: the flow that is missing at the start equals the let-through at the end.
+  opening_delay_s_ = dead_s + stroke_s - (full_closing_flow_s_ - dead_s);
+  ramp_delay_s_ = std::fmax(Scalar(0), opening_delay_s_ - dead_s);
+  geometry_.closing_flow_seconds = full_closing_flow_s_;
+  closing_duration_s_ = full_closing_duration_s_;
+}
+
+// Each timed first impact joins a running mean of the valve's dead time (the last few doses); the
+// model adopts it once two doses agree it is off the datasheet by more than the valve's jitter and
+// the estimate's error can explain: a valve that has slowed with age, or a datasheet that was wrong.
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::learn_dead_time(Scalar measured_s) {
+  dead_time_doses_ = dead_time_doses_ < kDeadTimeMemory ? dead_time_doses_ + 1 : kDeadTimeMemory;
+  measured_dead_s_ += (measured_s - measured_dead_s_) / Scalar(dead_time_doses_);
+}
+
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::dead_time_in_use_s() const {
+  const bool clearly_off = std::fabs(measured_dead_s_ - configured_dead_s_) > kDeadTimeDeadbandS<Scalar>;
+  return dead_time_doses_ >= kDeadTimeMinDoses && clearly_off ? measured_dead_s_ : configured_dead_s_;
+}
+
 template <typename Scalar>
 void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
+  set_valve_timing(dead_time_in_use_s());
   start_weight_g_ = start_weight_g;
   jiffies_ = 0;
   impacted_ = false;
@@ -203,6 +243,7 @@ void BasicModelCutoff<Scalar>::estimate_opening(Scalar net_weight_g) {
       estimates_.impact_timed = true;
       estimates_.first_impact_s = opening_.first_impact_s();
       estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), kGravity<Scalar>);
+      learn_dead_time(estimates_.dead_time_s);
     }
   }
   if (!use_observer_ || !estimates_.impact_timed || estimates_.signature.valid || !measuring() || fine_) return;

@@ -54,6 +54,7 @@ class DosingCycle {
   const LearningKey& learning_key() const { return learning_key_; }
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
+  float model_dead_time_s() const { return model_.dead_time_in_use_s_now(); }
 
  private:
   void open_from_rest();

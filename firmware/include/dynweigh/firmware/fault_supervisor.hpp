@@ -24,13 +24,15 @@
 // - `flow_after_close`: after a dose's close, once dead time, stroke, the stream's fall time and a
 //   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s;
 //   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
-//   before by kFlowAfterCloseRise (means, because a loaded platform rings slowly through the filter),
-//   before a stuck valve can run the silo empty while the long margin passes.
+//   before by kFlowAfterCloseRise, before a stuck valve can run the silo empty while the long margin
+//   passes. Both watch the filtered weight averaged over one period of the platform: a loaded
+//   platform rings slowly and long, and through the filter alone its swing can exceed the rise.
 #include <cstdint>
 
 #include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/firmware/period_mean.hpp"
 
 namespace dynweigh::firmware {
 
@@ -123,7 +125,9 @@ class FaultSupervisor {
   std::uint32_t history_head_ = 0;
   std::uint32_t history_count_ = 0;
 
-  // After close.
+  // After close: the filtered weight averaged over one period of the platform's ringing.
+  std::uint32_t ring_period_jiffies(float net_g) const;
+  PeriodMean settled_weight_;
   float after_close_reference_g_ = 0.0f;
   float early_leak_sums_g_[2] = {};  // the filtered weight summed over the two windows
 };

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/model/beverloo.hpp"
 #include "dynweigh/model/final_weight_prediction.hpp"
 #include "dynweigh/model/impact_signature.hpp"
 #include "dynweigh/model/opening_estimator.hpp"
@@ -58,6 +59,8 @@ class BasicModelCutoff {
   void switch_to_half(Scalar predicted_now_g);
   bool fine_feeding() const { return fine_; }
   const DoseEstimates<Scalar>& estimates() const { return estimates_; }
+  // The valve dead time the prediction uses: the datasheet's, or the measured one once it differs.
+  Scalar dead_time_in_use_s_now() const { return effective_dead_s_; }
 
  private:
   Scalar prior_prediction_g() const;
@@ -67,6 +70,9 @@ class BasicModelCutoff {
   void average_rate();
   void estimate_opening(Scalar net_weight_g);
   Scalar first_fall_height_m() const;
+  void set_valve_timing(Scalar dead_s);
+  void learn_dead_time(Scalar measured_s);
+  Scalar dead_time_in_use_s() const;
 
   model::CutoffGeometry<Scalar> geometry_;
   Scalar full_area_m2_ = Scalar(0);
@@ -95,6 +101,13 @@ class BasicModelCutoff {
   model::OpeningEstimator<Scalar> opening_{model::PlatformResponse<Scalar>{}};
   Scalar ramp_delay_s_ = Scalar(0);  // the landed mass's line starts this long after the first grain
   DoseEstimates<Scalar> estimates_{};
+  model::BeverlooMaterial<Scalar> material_{};
+  Scalar bore_m_ = Scalar(0);
+  Scalar stroke_s_ = Scalar(0);
+  Scalar configured_dead_s_ = Scalar(0);
+  Scalar measured_dead_s_ = Scalar(0);   // running mean over the last doses' first impacts
+  Scalar effective_dead_s_ = Scalar(0);  // the one this dose's timing uses
+  std::uint32_t dead_time_doses_ = 0;
   bool rate_change_pending_ = false;
   Scalar mean_rate_g_per_jiffy_ = Scalar(0);
   Scalar mean_window_jiffies_ = Scalar(100);
