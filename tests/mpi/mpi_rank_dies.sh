@@ -5,7 +5,7 @@
 source "$(dirname "$0")/mpi_common.sh"
 grid=(--strategies model,twostage --sweep --scenes default,tall-drop,slow-valve --targets 500,2000,5000,10000,15000
       --seeds 20)
-series=$(( (5 + 5) * 3 * 5 ))
+series=$(( (6 + 5) * 3 * 5 ))  # model: 6 fine-feed settings, twostage: 5 bands
 bench plain 0 "${grid[@]}" --jobs 2 --journal plain.journal
 [ "$(grep -c '^strategy=' plain.txt)" = $series ]
 
