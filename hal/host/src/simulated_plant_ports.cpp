@@ -1,5 +1,7 @@
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 
+#include <cmath>
+
 namespace dynweigh::hal::host {
 
 firmware::LoadCellInput SimulatedLoadCell::read_sample() {
@@ -27,11 +29,15 @@ firmware::PersistentSettings factory_settings(const sim::Plant& plant) {
   settings.calibration.counts_per_gram = float(plant.counts_per_gram());
   settings.calibration.zero_set = true;
   settings.calibration.span_set = true;
-  // The commissioning tap test: the platform's frequency with the empty container on it.
+  // The commissioning tap test: the platform's frequency with what is on it when the scale reads
+  // zero (the empty container; in the hourglass, the loaded silo too).
+  const sim::Scene& scene = plant.scene();
   const bool rings = plant.components().has(sim::Component::platform);
-  const sim::PlatformParameters& platform = plant.scene().platform;
-  settings.parameters.set(firmware::ParameterId::platform_hz, rings ? float(platform.natural_hz) : 0.0f);
-  if (rings) settings.parameters.set(firmware::ParameterId::platform_kg, float(platform.container_kg));
+  const double at_zero_kg = scene.platform.container_kg +
+                            (scene.hourglass.enabled ? scene.hourglass.silo_tare_kg + scene.silo.fill_kg : 0.0);
+  const double at_zero_hz = scene.platform.natural_hz * std::sqrt(scene.platform.container_kg / at_zero_kg);
+  settings.parameters.set(firmware::ParameterId::platform_hz, rings ? float(at_zero_hz) : 0.0f);
+  if (rings) settings.parameters.set(firmware::ParameterId::platform_kg, float(at_zero_kg));
   return settings;
 }
 
