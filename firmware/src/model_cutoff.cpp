@@ -32,6 +32,8 @@ constexpr Scalar kSampleNoiseG = Scalar(0.5);
 // The impact's signature is read this long after the stream is whole: the observer has settled and
 // the landed mass is still small beside the impulse.
 constexpr std::uint32_t kSignatureJiffies = 20;
+template <typename Scalar>
+constexpr Scalar kSignatureMinimumFlow = Scalar(0.2);  // of the prior flow
 // The dead time learned from the first impacts: a running mean over this many doses, used from the
 // second dose on when it is off the datasheet by more than 6 ms (2 ms jitter, ~2 ms of estimate).
 constexpr std::uint32_t kDeadTimeMemory = 8;
@@ -148,6 +150,7 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   observer_.stop();
   opening_.start(start_weight_g, jiffy_s_, kSampleNoiseG<Scalar>);
   estimates_ = DoseEstimates<Scalar>{};
+  stream_confirmed_ = false;
   previous_sample_g_ = start_weight_g;
   rate_change_pending_ = false;
   growth_per_jiffy_g_ = prior_rate_kg_s_ * Scalar(1000) * jiffy_s_;
@@ -243,11 +246,16 @@ void BasicModelCutoff<Scalar>::estimate_opening(Scalar net_weight_g) {
       estimates_.impact_timed = true;
       estimates_.first_impact_s = opening_.first_impact_s();
       estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), kGravity<Scalar>);
-      learn_dead_time(estimates_.dead_time_s);
     }
   }
-  if (!use_observer_ || !estimates_.impact_timed || estimates_.signature.valid || !measuring() || fine_) return;
+  if (!use_observer_ || !estimates_.impact_timed || stream_confirmed_ || !measuring() || fine_) return;
   if (jiffies_ < measure_jiffy_ + kSignatureJiffies) return;
+  // No stream worth the name (a scale that does not see the flow, as in the hourglass): nothing to
+  // read an impulse from, and the "first impact" was something else, not a lesson about the valve.
+  const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
+  if (!(mean_rate_g_per_jiffy_ > kSignatureMinimumFlow<Scalar> * prior_per_jiffy)) return;
+  stream_confirmed_ = true;
+  learn_dead_time(estimates_.dead_time_s);
   const model::ImpactObservation<Scalar> seen{
       observer_.equilibrium_g() - start_weight_g_,
       Scalar(jiffies_ - 1) * jiffy_s_, mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_),

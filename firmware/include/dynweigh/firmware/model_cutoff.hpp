@@ -108,6 +108,7 @@ class BasicModelCutoff {
   Scalar measured_dead_s_ = Scalar(0);   // running mean over the last doses' first impacts
   Scalar effective_dead_s_ = Scalar(0);  // the one this dose's timing uses
   std::uint32_t dead_time_doses_ = 0;
+  bool stream_confirmed_ = false;  // this dose's stream has run measurably: its dead time counts
   bool rate_change_pending_ = false;
   Scalar mean_rate_g_per_jiffy_ = Scalar(0);
   Scalar mean_window_jiffies_ = Scalar(100);
