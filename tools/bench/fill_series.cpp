@@ -127,15 +127,30 @@ Fill limit_result(const sim::PlantTruth& t) {
   return fill;
 }
 
+// The limits' valve let-through after a close, in seconds of full flow: from the plant's own valve
+// timing and material, which only a simulation knows.
+double true_let_through_s(const sim::Scene& scene) {
+  const model::BeverlooMaterial<double> material{scene.silo.beverloo_C, scene.silo.beverloo_k, scene.silo.grain_d_m,
+                                                 scene.silo.bulk_density};
+  return model::closing_flow_seconds(material, scene.g, scene.silo.bore_m, scene.valve.dead_time_s,
+                                     scene.valve.full_stroke_s);
+}
+
+// Closes within the coming jiffy if the fill now plus a jiffy of flow reaches the target, at the
+// fraction of the jiffy where it does; true once closed.
+bool close_within_jiffy(sim::Plant& plant, double now_kg, double flow_kg_s, double target_kg) {
+  if (now_kg + flow_kg_s * kJiffyS < target_kg) return false;
+  const double fraction = flow_kg_s > 0.0 ? std::clamp((target_kg - now_kg) / (flow_kg_s * kJiffyS), 0.0, 0.99) : 0.0;
+  plant.command_valve(sim::ValveCommand::closed, fraction * kJiffyS);
+  return true;
+}
+
 // The limit: a strategy that reads the plant's present truth each jiffy (static mass, mass in
 // flight, present flow, the valve's let-through) but not its future disturbances, and closes
 // within the jiffy when that truth reaches the target. It knows its result when the last grain lands.
 Fill oracle_fill(const sim::Scene& scene, std::uint64_t seed, double target_g) {
   sim::Plant plant(scene, seed);
-  const model::BeverlooMaterial<double> material{scene.silo.beverloo_C, scene.silo.beverloo_k, scene.silo.grain_d_m,
-                                                 scene.silo.bulk_density};
-  const double let_through_s = model::closing_flow_seconds(material, scene.g, scene.silo.bore_m,
-                                                           scene.valve.dead_time_s, scene.valve.full_stroke_s);
+  const double let_through_s = true_let_through_s(scene);
   const double target_kg = target_g / 1000.0;
   plant.command_valve(sim::ValveCommand::open);
   double previous_released = 0.0;
@@ -147,12 +162,7 @@ Fill oracle_fill(const sim::Scene& scene, std::uint64_t seed, double target_g) {
       const double flow = (t.released_kg - previous_released) / kJiffyS;
       previous_released = t.released_kg;
       const double now = t.released_kg + flow * let_through_s;
-      const double next = now + flow * kJiffyS;
-      if (next >= target_kg) {
-        const double fraction = flow > 0.0 ? std::clamp((target_kg - now) / (flow * kJiffyS), 0.0, 0.99) : 0.0;
-        plant.command_valve(sim::ValveCommand::closed, fraction * kJiffyS);
-        closed = true;
-      }
+      closed = close_within_jiffy(plant, now, flow, target_kg);
     } else if (landed_and_shut(t)) {
       return limit_result(t);
     }
@@ -171,10 +181,7 @@ Fill oracle_fill(const sim::Scene& scene, std::uint64_t seed, double target_g) {
 // what is in flight when the stream lands are not its purpose.
 Fill oracle_scale_fill(const sim::Scene& scene, std::uint64_t seed, double target_g) {
   sim::Plant plant(scene, seed);
-  const model::BeverlooMaterial<double> material{scene.silo.beverloo_C, scene.silo.beverloo_k, scene.silo.grain_d_m,
-                                                 scene.silo.bulk_density};
-  const double let_through_s = model::closing_flow_seconds(material, scene.g, scene.silo.bore_m,
-                                                           scene.valve.dead_time_s, scene.valve.full_stroke_s);
+  const double let_through_s = true_let_through_s(scene);
   const double bore_area_m2 = model::bore_area_m2(scene.silo.bore_m);
   const double target_kg = target_g / 1000.0;
   plant.command_valve(sim::ValveCommand::open);
@@ -211,12 +218,7 @@ Fill oracle_scale_fill(const sim::Scene& scene, std::uint64_t seed, double targe
       }
       const double in_flight_kg = release_kg_s * model::fall_time(v0, scene.g, h);
       const double now = t.static_kg + in_flight_kg + release_kg_s * let_through_s;
-      const double next = now + release_kg_s * kJiffyS;
-      if (next >= target_kg) {
-        const double fraction = std::clamp((target_kg - now) / (release_kg_s * kJiffyS), 0.0, 0.99);
-        plant.command_valve(sim::ValveCommand::closed, fraction * kJiffyS);
-        closed = true;
-      }
+      closed = close_within_jiffy(plant, now, release_kg_s, target_kg);
     } else if (landed_and_shut(t)) {
       return limit_result(t);
     }
