@@ -167,13 +167,6 @@ class CanFaultRig {
     return "udp:" + std::to_string(bind) + "@127.0.0.1:" + std::to_string(peer);
   }
 
-  static bool ends_with_answer(const std::string& text) {
-    if (text.empty() || text.back() != '\n') return false;
-    const std::size_t start = text.rfind('\n', text.size() - 2);
-    const std::string last = text.substr(start == std::string::npos ? 0 : start + 1);
-    return last == "OK\n" || last.rfind("ERR ", 0) == 0;
-  }
-
   sim::Plant plant_;
   firmware::Indicator indicator_;
   StringConsole console_;

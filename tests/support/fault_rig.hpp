@@ -73,13 +73,6 @@ class FaultRig {
 
  private:
 
-  static bool ends_with_answer(const std::string& text) {
-    if (text.empty() || text.back() != '\n') return false;
-    const std::size_t start = text.rfind('\n', text.size() - 2);
-    const std::string last = text.substr(start == std::string::npos ? 0 : start + 1);
-    return last == "OK\n" || last.rfind("ERR ", 0) == 0;
-  }
-
   sim::Plant plant_;
   hal::host::SimulatedLoadCell cell_;
   hal::host::SimulatedValve valve_;

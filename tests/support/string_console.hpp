@@ -20,4 +20,12 @@ struct StringConsole final : hal::ConsolePort {
   std::string output;
 };
 
+// Whether the console's last line is a command's final answer (OK or ERR): the command is done.
+inline bool ends_with_answer(const std::string& text) {
+  if (text.empty() || text.back() != '\n') return false;
+  const std::size_t start = text.rfind('\n', text.size() - 2);
+  const std::string last = text.substr(start == std::string::npos ? 0 : start + 1);
+  return last == "OK\n" || last.rfind("ERR ", 0) == 0;
+}
+
 }  // namespace dynweigh::testing
