@@ -189,7 +189,7 @@ class SlotStore final : public hal::SettingsStore {
 
 firmware::PersistentSettings calibrated_to_the_toy_plant() {
   firmware::PersistentSettings settings;
-  settings.calibration.zero_counts = fuzz::ToyPlant::kEmptyCounts;
+  settings.calibration.zero_counts = std::int32_t(fuzz::ToyPlant::kEmptyCounts);
   settings.calibration.counts_per_gram = fuzz::ToyPlant::kCountsPerGram;
   settings.calibration.zero_set = true;
   settings.calibration.span_set = true;
