@@ -14,6 +14,10 @@ constexpr float kZeroSettingRangeOfCapacity = 0.04f;  // OIML R76: more is a loa
 // The span's mean must stand within this fraction of the span: a quarter of the 0.02 % a span is
 // adjusted to (the load cell's noise may ask for more, never less).
 constexpr float kSpanSteadiness = 5e-5f;
+
+float mean_above_zero(const StandstillAverage& standstill, const Calibration& cal) {
+  return standstill.mean_above(cal.zero_counts) - cal.zero_fraction;
+}
 }  // namespace
 
 void Indicator::start_adjustment(Adjustment::Kind kind, std::int32_t grams) {
@@ -25,9 +29,8 @@ void Indicator::advance_adjustment(bool fresh_sample) {
   if (adjustment_.kind == Adjustment::Kind::none) return;
   if (fresh_sample) standstill_.push(raw_sample_);
   ++adjustment_.jiffies;
-  const Calibration& cal = settings_.calibration;
   const float floor_counts = adjustment_.kind == Adjustment::Kind::span
-                                 ? kSpanSteadiness * std::fabs(standstill_.mean_above(cal.zero_counts) - cal.zero_fraction)
+                                 ? kSpanSteadiness * std::fabs(mean_above_zero(standstill_, settings_.calibration))
                                  : 0.0f;
   if (standstill_.steady(floor_counts)) {
     const Adjustment::Kind kind = adjustment_.kind;
@@ -46,7 +49,7 @@ void Indicator::finish_zero() {
   Calibration& cal = settings_.calibration;
   bool zero_setting = false;
   if (cal.valid()) {
-    const float gross_g = (standstill_.mean_above(cal.zero_counts) - cal.zero_fraction) / cal.counts_per_gram;
+    const float gross_g = mean_above_zero(standstill_, cal) / cal.counts_per_gram;
     zero_setting = std::fabs(gross_g) <= kZeroSettingRangeOfCapacity * settings_.parameters.get(ParameterId::capacity_g);
   }
   const StandstillAverage::Reading zero = standstill_.mean();
@@ -63,7 +66,7 @@ void Indicator::finish_zero() {
 
 void Indicator::finish_span() {
   Calibration& cal = settings_.calibration;
-  const float span_counts = standstill_.mean_above(cal.zero_counts) - cal.zero_fraction;
+  const float span_counts = mean_above_zero(standstill_, cal);
   if (span_counts < kMinimumSpanCounts) return error(2, "load too small to calibrate");
   cal.counts_per_gram = span_counts / float(adjustment_.grams);
   cal.span_set = true;
@@ -79,7 +82,7 @@ void Indicator::rebase_to_zero() {
   has_reference_ = true;
   raw_counts_ = relative_counts(raw_sample_);
   screened_counts_ = raw_counts_;
-  filtered_counts_ = settings_.calibration.zero_fraction;  // the scale stands at its zero
+  filtered_counts_ = zero_relative_counts();  // the scale stands at its zero
   filter_.reset(filtered_counts_);
   supervisor_.reset();  // its outlier screen held counts relative to the old reference
 }

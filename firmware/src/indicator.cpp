@@ -35,7 +35,7 @@ void Indicator::apply_parameters() {
 float Indicator::filtered_weight_g() const {
   const Calibration& cal = settings_.calibration;
   if (!cal.valid()) return 0.0f;
-  return (filtered_counts_ - cal.zero_fraction) / cal.counts_per_gram - tare_g_;
+  return (filtered_counts_ - zero_relative_counts()) / cal.counts_per_gram - tare_g_;
 }
 
 bool Indicator::weight_known() const {
@@ -202,7 +202,7 @@ void Indicator::advance_dose() {
   dosing_.watch_standstill(filtered_weight_g());
   if (dosing_.phase() == DosingCycle::Phase::idle) return;
   const Calibration& cal = settings_.calibration;
-  const float net_g = (screened_counts_ - cal.zero_fraction) / cal.counts_per_gram - tare_g_;
+  const float net_g = (screened_counts_ - zero_relative_counts()) / cal.counts_per_gram - tare_g_;
   switch (dosing_.step(net_g, filtered_weight_g(), stale_jiffies_ == 0)) {
     case DosingCycle::Outcome::running:
       return;

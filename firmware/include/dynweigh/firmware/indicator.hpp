@@ -107,6 +107,10 @@ class Indicator {
   void finish_span();
   // Counts relative to reference_counts_: the float domain the filter and the dose work in.
   float relative_counts(std::int32_t raw) const { return float(std::int64_t(raw) - reference_counts_); }
+  // The calibrated zero in those counts (its fraction alone once rebased to it).
+  float zero_relative_counts() const {
+    return relative_counts(settings_.calibration.zero_counts) + settings_.calibration.zero_fraction;
+  }
   void rebase_to_zero();
 
   static constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
