@@ -4,7 +4,25 @@
 
 namespace dynweigh::firmware {
 
-void StandstillAverage::start() { *this = StandstillAverage{}; }
+// Field by field: a whole-object temporary would put a kilobyte on the caller's stack.
+void StandstillAverage::start() {
+  samples_ = 0;
+  last_x_ = 0;
+  for (std::uint32_t s = 0; s < 3; ++s) {
+    for (std::int64_t& v : stage_[s]) v = 0;
+    stage_sum_[s] = 0;
+  }
+  stage_head_ = 0;
+  block_sum_ = 0;
+  block_noise_ = 0.0f;
+  block_fill_ = 0;
+  for (std::int64_t& b : window_) b = 0;
+  for (float& n : window_noise_) n = 0.0f;
+  window_head_ = 0;
+  blocks_ = 0;
+  for (std::int64_t& m : means_) m = 0;
+  means_head_ = 0;
+}
 
 void StandstillAverage::push(std::int32_t raw_counts) {
   if (samples_ == 0) base_ = raw_counts;
