@@ -11,13 +11,16 @@
 //  - the answer text is printable ASCII in lines of bounded length; no jiffy sends more than the
 //    transmit ring holds; the valve delay byte stays within SPEC §4's 0..99;
 //  - never more answers (`OK` or `ERR ...`) than command lines, and once the indicator is idle
-//    again after the input, exactly one answer per command line.
+//    again after the input, exactly one answer per command line;
+//  - with `param echo 1`, what precedes a jiffy's answers is exactly the echo of what was typed
+//    (the line reader's rules: characters, "\b \b" for an erasure, one newline a line end).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/firmware/settings_slots.hpp"
@@ -71,6 +74,7 @@ class FuzzConsole final : public hal::ConsolePort {
 
   bool exhausted() const { return position_ == size_; }
   void set_indicator_busy(bool busy) { indicator_busy_ = busy; }
+  void set_echo(bool echo) { echo_ = echo; }
   void set_jiffy(std::uint32_t jiffy) { jiffy_ = jiffy; }
   std::size_t command_lines() const { return command_lines_; }
   std::size_t answers() const { return answers_; }
@@ -98,9 +102,17 @@ class FuzzConsole final : public hal::ConsolePort {
   void write(const char* data, std::size_t length) override {
     written_this_jiffy_ += length;
     if (written_this_jiffy_ > firmware::TextWriter::kCapacity) violated("a jiffy sent more than the ring holds", jiffy_);
-    for (std::size_t i = 0; i < length; ++i) observe_answer(data[i]);
+    for (std::size_t i = 0; i < length; ++i) {
+      if (echo_expected_.empty()) {
+        observe_answer(data[i]);
+        continue;
+      }
+      if (data[i] != echo_expected_.front()) violated("the echo differs from what was typed", jiffy_);
+      echo_expected_.erase(0, 1);
+    }
   }
   void start_jiffy() {
+    if (!echo_expected_.empty()) violated("an echo of what was typed is missing", jiffy_);
     written_this_jiffy_ = 0;
     result_this_jiffy_ = false;
   }
@@ -108,7 +120,9 @@ class FuzzConsole final : public hal::ConsolePort {
  private:
   // The same line rules the firmware applies (SPEC §3), to know which lines are commands.
   void observe_sent(char c) {
-    switch (mirror_.feed(c)) {
+    const firmware::ConsoleLineReader::Event event = mirror_.feed(c);
+    if (echo_) echo_expected_ += mirror_.echo();
+    switch (event) {
       case firmware::ConsoleLineReader::Event::none:
         return;
       case firmware::ConsoleLineReader::Event::too_long:
@@ -144,6 +158,8 @@ class FuzzConsole final : public hal::ConsolePort {
   bool paced_;
   std::size_t position_ = 0;
   bool indicator_busy_ = false;
+  bool echo_ = false;
+  std::string echo_expected_;  // echoed bytes still to come before this jiffy's answers
   std::uint32_t jiffy_ = 0;
   firmware::ConsoleLineReader mirror_;
   std::size_t command_lines_ = 0;
@@ -189,7 +205,7 @@ class SlotStore final : public hal::SettingsStore {
 
 firmware::PersistentSettings calibrated_to_the_toy_plant() {
   firmware::PersistentSettings settings;
-  settings.calibration.zero_counts = fuzz::ToyPlant::kEmptyCounts;
+  settings.calibration.zero_counts = std::int32_t(fuzz::ToyPlant::kEmptyCounts);
   settings.calibration.counts_per_gram = fuzz::ToyPlant::kCountsPerGram;
   settings.calibration.zero_set = true;
   settings.calibration.span_set = true;
@@ -211,6 +227,7 @@ void play(const std::uint8_t* data, std::size_t size, bool paced) {
     }
     console.set_jiffy(jiffy);
     console.set_indicator_busy(busy);
+    console.set_echo(indicator->settings().parameters.get(firmware::ParameterId::echo) != 0.0f);
     console.start_jiffy();
     const firmware::Outputs out = hal::run_one_jiffy(*indicator, ports, jiffy);
     busy = out.busy;

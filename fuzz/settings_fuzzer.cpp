@@ -71,8 +71,9 @@ void check_valid(const PersistentSettings& s) {
     if (spec.choices && v != std::floor(v)) violated("a choice parameter that is not a whole number");
   }
   const Calibration& cal = s.calibration;
-  if ((cal.zero_set || cal.span_set) && !(std::isfinite(cal.zero_counts) && std::isfinite(cal.counts_per_gram))) {
-    violated("a calibration that is not finite");
+  if ((cal.zero_set || cal.span_set) &&
+      !(cal.zero_fraction >= 0.0f && cal.zero_fraction < 1.0f && std::isfinite(cal.counts_per_gram))) {
+    violated("a calibration that is not finite or not a zero of whole counts and a fraction");
   }
   if (cal.span_set && !(cal.counts_per_gram > 0.0f)) violated("a span that is not positive");
   for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {

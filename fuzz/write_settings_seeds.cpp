@@ -14,7 +14,7 @@ using namespace dynweigh::firmware;
 
 PersistentSettings calibrated_and_learned() {
   PersistentSettings s;
-  s.calibration = {200000.0f, 20.0f, true, true};
+  s.calibration = {200000, 0.25f, 20.0f, true, true};
   s.parameters.set(ParameterId::filter_hz, 5.0f);
   s.learning.learn(make_learning_key(5000.0f, 1.1f, 3.5f), 12.0f);
   s.learning.learn(make_learning_key(20000.0f, 0.9f, 3.5f), -30.0f);

@@ -6,6 +6,8 @@
 namespace dynweigh::testing {
 namespace {
 
+constexpr const char* kAdjustmentNote = "NOTE adjustment: new zero; no span until cal <grams> with a test weight\n";
+
 std::string last_line(const std::string& output) {
   const auto lines = lines_of(output);
   return lines.empty() ? "" : lines.back();
@@ -128,7 +130,8 @@ TEST(Console, ZeroThenCalWithAKnownLoadCalibrates) {
   firmware::PersistentSettings blank;
   ConsoleSession c(sim::default_scene(), 1, blank);
   c.idle(100);  // let the filter settle on the empty scale
-  EXPECT_EQ(c.run({"zero"}), "OK\n");
+  // No span yet: the zero is an adjustment, and the answer says what comes next.
+  EXPECT_EQ(c.run({"zero"}), std::string(kAdjustmentNote) + "OK\n");
   EXPECT_EQ(c.run({"cal 1000"}), "ERR 2 load too small to calibrate\n");
   // Put a known load on the scale: run the valve open, then let everything land and settle.
   EXPECT_EQ(c.run({"valve 2"}), "OK\n");
@@ -154,13 +157,17 @@ TEST(Console, TareZeroesTheDisplayedWeight) {
   EXPECT_NEAR(std::stoi(field(lines_of(c.run({"status"}))[0], "weight")), 0, 1);
 }
 
-TEST(Console, ZeroOutsideTheZeroRangeIsErr2) {
+// OIML R76: 4 % of Max is the range of zero-setting in use; beyond it `zero` is an adjustment, which
+// sets the zero anywhere and leaves the scale without a span until `cal`.
+TEST(Console, ZeroOutsideTheZeroRangeIsAnAdjustmentThatAsksForCal) {
   ConsoleSession c;
   c.run({"valve 2"});
   c.idle(150);  // about 2.4 kg: beyond 4 % of 50 kg
   c.run({"valve 0"});
   c.idle(600);
-  EXPECT_EQ(c.run({"zero"}), "ERR 2 outside the zero range (4 % of capacity)\n");
+  EXPECT_EQ(c.run({"zero"}), std::string(kAdjustmentNote) + "OK\n");
+  EXPECT_EQ(c.run({"dose 1000"}), "ERR 5 not calibrated\n");
+  EXPECT_EQ(c.run({"status"}), "STATUS state=idle weight=none valve=0 fault=none\nOK\n");
 }
 
 TEST(Console, ParamListsReadsSetsAndRejects) {

@@ -58,11 +58,13 @@ firmware::PersistentSettings decoded_after_encoding(const firmware::PersistentSe
 }
 
 // Before: a record with an intact CRC but a NaN zero or an infinite span decoded as a valid
-// calibration, and the indicator weighed with it.
+// calibration, and the indicator weighed with it. (The zero is whole counts and a fraction now: a
+// fraction outside [0, 1) is no zero `zero` takes.)
 TEST(FuzzFindings, ACalibrationNoCommandCanProduceIsDropped) {
-  for (const auto& [zero, span] : {std::pair{NAN, 20.0f}, std::pair{200000.0f, INFINITY}, std::pair{200000.0f, -3.0f}}) {
+  for (const auto& [zero, span] : {std::pair{NAN, 20.0f}, std::pair{1.5f, 20.0f}, std::pair{0.0f, INFINITY},
+                                   std::pair{0.0f, -3.0f}}) {
     firmware::PersistentSettings settings;
-    settings.calibration = {zero, span, true, true};
+    settings.calibration = {200000, zero, span, true, true};
     settings.parameters.set(firmware::ParameterId::fall_mm, 1500.0f);
     const firmware::PersistentSettings decoded = decoded_after_encoding(settings);
     EXPECT_FALSE(decoded.calibration.valid()) << zero << " " << span;

@@ -7,7 +7,7 @@ namespace {
 
 PersistentSettings sample_settings() {
   PersistentSettings s;
-  s.calibration = {8123.5f, 0.998f, true, true};
+  s.calibration = {-2147480000, 0.5f, 0.998f, true, true};
   s.parameters.set(ParameterId::fall_mm, 1500.0f);
   return s;
 }
@@ -17,7 +17,8 @@ TEST(PersistentSettings, RoundTripsCalibrationAndParameters) {
   ASSERT_EQ(encode_settings(sample_settings(), record, sizeof record), kSettingsRecordSize);
   PersistentSettings decoded;
   ASSERT_TRUE(decode_settings(record, sizeof record, decoded));
-  EXPECT_FLOAT_EQ(decoded.calibration.zero_counts, 8123.5f);
+  EXPECT_EQ(decoded.calibration.zero_counts, -2147480000);
+  EXPECT_FLOAT_EQ(decoded.calibration.zero_fraction, 0.5f);
   EXPECT_FLOAT_EQ(decoded.calibration.counts_per_gram, 0.998f);
   EXPECT_TRUE(decoded.calibration.valid());
   EXPECT_FLOAT_EQ(decoded.parameters.get(ParameterId::fall_mm), 1500.0f);

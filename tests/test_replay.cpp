@@ -135,7 +135,8 @@ TEST(ReplayInputsRecording, SettingsAndConsoleCommandsReplayToo) {
 
 TEST(ReplayInputsRecording, AnotherStrategyIsOpenLoopAndSaysSo) {
   const std::string path = temp_path("strategy.rec");
-  run_live({"dose 3000"}, path);
+  // `readtestdata` waits for the dose's 1000-jiffy recording: jiffies enough for another strategy's dose.
+  run_live({"dose 3000", "readtestdata"}, path);
   tools::ReplayOptions options;
   options.strategy = firmware::DosingStrategy::preact;
   Replayed replayed;

@@ -19,14 +19,14 @@ using hal::host::SlottedSettingsStore;
 // Generation `n` of the settings: every field that persists differs from the other generations.
 PersistentSettings generation(int n) {
   PersistentSettings s;
-  s.calibration = {8000.0f + float(n), 1.0f + 0.01f * float(n), true, true};
+  s.calibration = {8000 + n, 0.0f, 1.0f + 0.01f * float(n), true, true};
   s.parameters.set(ParameterId::fall_mm, 1000.0f + float(n));
   s.parameters.set(ParameterId::preact_g, 100.0f + float(n));
   return s;
 }
 
 void expect_generation(const PersistentSettings& s, int n) {
-  EXPECT_FLOAT_EQ(s.calibration.zero_counts, 8000.0f + float(n));
+  EXPECT_EQ(s.calibration.zero_counts, 8000 + n);
   EXPECT_FLOAT_EQ(s.calibration.counts_per_gram, 1.0f + 0.01f * float(n));
   EXPECT_TRUE(s.calibration.valid());
   EXPECT_FLOAT_EQ(s.parameters.get(ParameterId::fall_mm), 1000.0f + float(n));
@@ -47,7 +47,7 @@ bool slot_holds(const CuttableNvm& nvm, std::size_t slot, int n, std::uint32_t s
 int loaded_generation(SlottedSettingsStore& store) {
   PersistentSettings s;
   if (!store.load(s)) return -1;
-  return int(s.calibration.zero_counts - 8000.0f);
+  return s.calibration.zero_counts - 8000;
 }
 
 TEST(SettingsSlots, BlankMemoryLoadsNothingAndFirstSaveLoadsBack) {

@@ -18,15 +18,17 @@ struct CommandSpec {
 constexpr CommandSpec kCommands[] = {
     {"starttestdata", "starttestdata [<open> <close>]  1000-jiffy test cycle, valve schedule in jiffies",
      &Indicator::command_starttestdata},
-    {"readtestdata", "readtestdata  print the last cycle: <jiffy> <raw> <filtered> <marker>",
+    {"readtestdata", "readtestdata [info]  print the last cycle: <jiffy> <raw> <filtered> <marker>; info: whose",
      &Indicator::command_readtestdata},
     {"dose", "dose <grams> [model|preact|twostage|learn]  one dosing cycle to the target",
      &Indicator::command_dose},
     {"tare", "tare  take the present weight as tare", &Indicator::command_tare},
-    {"zero", "zero  take the present load as zero (persists)", &Indicator::command_zero},
-    {"cal", "cal <grams>  span calibration with a known load on the zeroed scale (persists)",
+    {"zero", "zero  at standstill: zero-setting within 4 % of Max, else adjustment (then cal) (persists)",
+     &Indicator::command_zero},
+    {"cal", "cal <grams>  at standstill: span adjustment with a test weight on the zeroed scale (persists)",
      &Indicator::command_cal},
-    {"status", "status  state, weight, valve and fault", &Indicator::command_status},
+    {"status", "status  state, weight (none: no sample or not calibrated), valve and fault",
+     &Indicator::command_status},
     {"param", "param [<name> [<value>]]  list, read or set a parameter (persists)",
      &Indicator::command_param},
     {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
@@ -38,6 +40,22 @@ constexpr CommandSpec kCommands[] = {
     {"help", "help  this list", &Indicator::command_help},
     {"version", "version  firmware version", &Indicator::command_version},
 };
+
+constexpr std::size_t help_bytes() {
+  std::size_t bytes = 3;  // OK
+  for (const CommandSpec& command : kCommands) {
+    std::size_t n = 0;
+    while (command.usage[n]) ++n;
+    bytes += n + 1;
+  }
+  return bytes;
+}
+static_assert(help_bytes() <= Indicator::kLongestAnswerBytes, "help outgrew the console's room for an answer");
+
+// LEARN target_bucket=255 fall_bucket=255 flow_bucket=255 correction_g=<at most 50 g x 65535 fills> fills=65535
+constexpr std::size_t kLearnLineMaxBytes = 6 + 17 + 16 + 16 + 24 + 12 + 1;
+static_assert(LearningTable::kEntries * kLearnLineMaxBytes + 3 <= Indicator::kLongestAnswerBytes,
+              "the learn listing outgrew the console's room for an answer");
 
 // Strict integer: optional sign, digits only, within [minimum, maximum].
 bool parse_int(const char* text, long minimum, long maximum, long& value) {
@@ -120,13 +138,34 @@ void Indicator::command_starttestdata(const Arguments& args) {
   if (fault_ != Fault::none && args.count == 3) return error(4, "fault active");
   test_ = TestCycle{true, args.count == 3, 0, std::uint32_t(open), std::uint32_t(close)};
   recorder_.start();
+  recording_source_ = RecordingSource{};
   ok();
 }
 
 void Indicator::command_readtestdata(const Arguments& args) {
-  if (args.count != 1) return error(2, "usage: readtestdata");
+  const bool info = args.count == 2 && std::strcmp(args.word[1], "info") == 0;
+  if (args.count != 1 && !info) return error(2, "usage: readtestdata [info]");
+  if (info) {
+    if (!recorder_.has_data()) return error(2, "no test data");
+    console_.write("TESTDATA cycle=");
+    if (recording_source_.dose) {
+      console_.write("dose dose=");
+      console_.write_int(recording_source_.dose_number);
+      console_.write(" target=");
+      console_.write_int(recording_source_.target_g);
+      console_.write(" strategy=");
+      console_.write(strategy_name(recording_source_.strategy));
+    } else {
+      console_.write("starttestdata");
+    }
+    console_.write(" records=");
+    console_.write_int(std::int64_t(recorder_.count()));
+    console_.put('\n');
+    return ok();
+  }
   if (reject_if_busy()) return;
   if (!recorder_.has_data()) return error(2, "no test data");
+  // A dose's recording still running after its result: the print waits for its 1000 records.
   printing_ = true;
   print_index_ = 0;
 }
@@ -153,6 +192,7 @@ void Indicator::command_dose(const Arguments& args) {
   dosing_.start(std::int32_t(target), strategy, &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();
+  recording_source_ = RecordingSource{true, ++doses_started_, std::int32_t(target), strategy};
 }
 
 void Indicator::command_tare(const Arguments& args) {
@@ -163,22 +203,11 @@ void Indicator::command_tare(const Arguments& args) {
   ok();
 }
 
+// `zero` and `cal` answer once the reading stands still (commissioning.cpp).
 void Indicator::command_zero(const Arguments& args) {
   if (args.count != 1) return error(2, "usage: zero");
   if (reject_if_busy()) return;
-  Calibration& cal = settings_.calibration;
-  if (cal.valid()) {
-    // OIML R76: the zero-setting range is 4 % of Max; more is a load, not a zero error.
-    const float gross = (filtered_counts_ - cal.zero_counts) / cal.counts_per_gram;
-    if (std::fabs(gross) > 0.04f * settings_.parameters.get(ParameterId::capacity_g)) {
-      return error(2, "outside the zero range (4 % of capacity)");
-    }
-  }
-  cal.zero_counts = filtered_counts_;
-  cal.zero_set = true;
-  tare_g_ = 0.0f;
-  settings_changed_ = true;
-  ok();
+  start_adjustment(Adjustment::Kind::zero, 0);
 }
 
 void Indicator::command_cal(const Arguments& args) {
@@ -188,16 +217,8 @@ void Indicator::command_cal(const Arguments& args) {
     return error(2, "load out of range");
   }
   if (reject_if_busy()) return;
-  Calibration& cal = settings_.calibration;
-  if (!cal.zero_set) return error(5, "zero the empty scale first");
-  const float span_counts = filtered_counts_ - cal.zero_counts;
-  constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
-  if (span_counts < kMinimumSpanCounts) return error(2, "load too small to calibrate");
-  cal.counts_per_gram = span_counts / float(grams);
-  cal.span_set = true;
-  tare_g_ = 0.0f;
-  settings_changed_ = true;
-  ok();
+  if (!settings_.calibration.zero_set) return error(5, "zero the empty scale first");
+  start_adjustment(Adjustment::Kind::span, std::int32_t(grams));
 }
 
 void Indicator::command_status(const Arguments& args) {
@@ -209,7 +230,11 @@ void Indicator::command_status(const Arguments& args) {
   console_.write("STATUS state=");
   console_.write(state);
   console_.write(" weight=");
-  console_.write_int(std::lround(filtered_weight_g()));
+  if (weight_known()) {
+    console_.write_int(std::lround(filtered_weight_g()));
+  } else {
+    console_.write("none");
+  }
   console_.write(" valve=");
   console_.write_int(static_cast<int>(valve_));
   console_.write(" fault=");
@@ -245,8 +270,9 @@ void Indicator::command_param(const Arguments& args) {
   const ParameterId id = find_parameter(args.word[1]);
   if (id == ParameterId::count) return error(2, "unknown parameter");
   if (args.count == 3) {
-    if (reject_if_busy()) return;
     const ParameterSpec& spec = parameter_spec(id);
+    if (spec.read_only) return error(2, "read-only");
+    if (reject_if_busy()) return;
     float value = -1.0f;
     for (std::uint8_t c = 0; spec.choices && c < spec.choice_count; ++c) {
       if (std::strcmp(spec.choices[c], args.word[2]) == 0) value = float(c);

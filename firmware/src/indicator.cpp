@@ -6,12 +6,23 @@
 namespace dynweigh::firmware {
 namespace {
 constexpr std::uint32_t kStaleLimitJiffies = DosingCycle::kBlindHorizonJiffies;  // 100 ms without a sample
-constexpr std::size_t kRoomForAnAnswer = 1500;          // the longest answer (`param`, `help`)
+// A command runs once its whole answer fits: the longest (a listing, sized at compile time beside
+// the text it lists) and the answer a running command (dose, zero, cal) may still add to it.
+constexpr std::size_t kRoomForARunningAnswer = 256;
+constexpr std::size_t kRoomForAnAnswer = Indicator::kLongestAnswerBytes + kRoomForARunningAnswer;
 constexpr std::size_t kRoomForARecord = 48;
+static_assert(kRoomForAnAnswer + kRoomForARecord <= TextWriter::kCapacity,
+              "the console ring cannot hold the longest answer: enlarge TextWriter::kCapacity");
 constexpr float kOverloadMarginG = 9.0f;                // 9 d above Max, as OIML R76 blanks
 }  // namespace
 
-Indicator::Indicator(const PersistentSettings& settings) : settings_(settings) { apply_parameters(); }
+Indicator::Indicator(const PersistentSettings& settings) : settings_(settings) {
+  if (settings_.calibration.zero_set) {
+    reference_counts_ = settings_.calibration.zero_counts;
+    has_reference_ = true;
+  }
+  apply_parameters();
+}
 
 void Indicator::apply_parameters() {
   const Parameters& p = settings_.parameters;
@@ -24,11 +35,18 @@ void Indicator::apply_parameters() {
 float Indicator::filtered_weight_g() const {
   const Calibration& cal = settings_.calibration;
   if (!cal.valid()) return 0.0f;
-  return (filtered_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
+  return (filtered_counts_ - zero_relative_counts()) / cal.counts_per_gram - tare_g_;
 }
 
+bool Indicator::weight_known() const {
+  return has_sample_ && stale_jiffies_ < kStaleLimitJiffies && settings_.calibration.valid();
+}
+
+// A dose's test-data recording runs on after its result and is no part of it: the next dose
+// restarts it (`readtestdata info` tells which dose the recorder holds).
 bool Indicator::cycle_running() const {
-  return dosing_.phase() != DosingCycle::Phase::idle || test_.active || recorder_.recording();
+  return dosing_.phase() != DosingCycle::Phase::idle || test_.active ||
+         adjustment_.kind != Adjustment::Kind::none;
 }
 
 bool Indicator::busy() const { return queue_count_ > 0 || printing_ || cycle_running(); }
@@ -51,8 +69,9 @@ void Indicator::raise(Fault fault) {
   fault_ = fault;
   test_.scheduled = false;
   if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
-  if (dose_command_pending_) {
+  if (dose_command_pending_ || adjustment_.kind != Adjustment::Kind::none) {
     dose_command_pending_ = false;
+    adjustment_.kind = Adjustment::Kind::none;
     console_.write("ERR 4 fault ");
     console_.line(fault_name(fault));
   }
@@ -64,6 +83,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   process_sample(inputs.load_cell);
   supervise(inputs);
   execute_queued_commands();
+  advance_adjustment(inputs.load_cell.fresh);
   advance_dose();
   const ValveCommand scheduled = advance_test_cycle();
   if (fault_ != Fault::none) {
@@ -73,8 +93,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   } else {
     valve_ = scheduled;
   }
-  recorder_.record(std::int32_t(std::lround(raw_counts_)), std::int32_t(std::lround(filtered_weight_g())),
-                   static_cast<std::uint8_t>(valve_));
+  recorder_.record(raw_sample_, std::int32_t(std::lround(filtered_weight_g())), static_cast<std::uint8_t>(valve_));
   continue_print();
 
   Outputs out;
@@ -85,7 +104,7 @@ Outputs Indicator::step(const Inputs& inputs) {
               : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? IndicatorState::dosing
               : dosing_.phase() == DosingCycle::Phase::settling ? IndicatorState::settling
                                                                  : IndicatorState::idle;
-  out.weight_100mg = std::int32_t(std::lround(filtered_weight_g() * 10.0f));
+  out.weight_100mg = weight_known() ? std::int32_t(std::lround(filtered_weight_g() * 10.0f)) : kWeightUnknown100mg;
   out.settings_changed = settings_changed_;
   out.busy = busy();
   return out;
@@ -94,6 +113,7 @@ Outputs Indicator::step(const Inputs& inputs) {
 void Indicator::receive_console(const Inputs& inputs) {
   for (std::size_t i = 0; i < inputs.console_rx_length; ++i) {
     const ConsoleLineReader::Event event = reader_.feed(inputs.console_rx[i]);
+    echo_typed(reader_.echo());
     if (event == ConsoleLineReader::Event::none) continue;
     if (queue_count_ == kQueue) {
       error(3, "busy");  // more lines than a console can have in flight: refuse, do not lose silently
@@ -105,6 +125,10 @@ void Indicator::receive_console(const Inputs& inputs) {
     slot.text[sizeof slot.text - 1] = '\0';
     ++queue_count_;
   }
+}
+
+void Indicator::echo_typed(const char* text) {
+  if (settings_.parameters.get(ParameterId::echo) != 0.0f) console_.write(text);
 }
 
 void Indicator::execute_queued_commands() {
@@ -136,7 +160,12 @@ void Indicator::process_sample(const LoadCellInput& sample) {
   if (sample.status & kLoadCellAdcError) raise(Fault::adc_error);
   if (sample.status & kLoadCellOverload) raise(Fault::overload);
   if (sample.status & kLoadCellUnderload) raise(Fault::underload);
-  raw_counts_ = float(sample.raw_counts);
+  if (!has_reference_) {
+    reference_counts_ = sample.raw_counts;
+    has_reference_ = true;
+  }
+  raw_sample_ = sample.raw_counts;
+  raw_counts_ = relative_counts(sample.raw_counts);
   Fault jump = Fault::none;
   screened_counts_ = supervisor_.screen_sample(
       raw_counts_, settings_.calibration.valid() ? settings_.calibration.counts_per_gram : 0.0f,
@@ -162,7 +191,7 @@ void Indicator::supervise(const Inputs& inputs) {
   o.dose_flowing = dosing_.phase() == DosingCycle::Phase::dosing;
   o.dose_running = dosing_.phase() != DosingCycle::Phase::idle;
   o.fresh_sample = inputs.load_cell.fresh;
-  o.raw_counts = float(inputs.load_cell.raw_counts);
+  o.raw_counts = relative_counts(inputs.load_cell.raw_counts);
   o.counts_per_gram = settings_.calibration.valid() ? settings_.calibration.counts_per_gram : 0.0f;
   o.filtered_g = filtered_weight_g();
   const Fault found = supervisor_.watch(o);
@@ -173,7 +202,7 @@ void Indicator::advance_dose() {
   dosing_.watch_standstill(filtered_weight_g());
   if (dosing_.phase() == DosingCycle::Phase::idle) return;
   const Calibration& cal = settings_.calibration;
-  const float net_g = (screened_counts_ - cal.zero_counts) / cal.counts_per_gram - tare_g_;
+  const float net_g = (screened_counts_ - zero_relative_counts()) / cal.counts_per_gram - tare_g_;
   switch (dosing_.step(net_g, filtered_weight_g(), stale_jiffies_ == 0)) {
     case DosingCycle::Outcome::running:
       return;
@@ -226,6 +255,7 @@ ValveCommand Indicator::advance_test_cycle() {
 }
 
 void Indicator::continue_print() {
+  if (printing_ && recorder_.recording()) return;  // a dose's recording still runs: print it whole
   while (printing_ && console_.free_space() >= kRoomForARecord) {
     if (print_index_ == TestDataRecorder::kRecords) {
       printing_ = false;

@@ -6,9 +6,9 @@
 namespace dynweigh::firmware {
 namespace {
 
-const char* const kFilterNames[] = {"none", "avg", "iir"};
-const char* const kCertifyNames[] = {"auto", "stable", "dynamic"};
-const char* const kEstimatorNames[] = {"line", "observer"};
+constexpr const char* kFilterNames[] = {"none", "avg", "iir"};
+constexpr const char* kCertifyNames[] = {"auto", "stable", "dynamic"};
+constexpr const char* kEstimatorNames[] = {"line", "observer"};
 
 // The defaults are the thesis' setup (shared/seed table 2.2) and SPEC §2's valve. `preact_g` is
 // tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (README).
@@ -18,7 +18,7 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"container_mm", "container diameter, mm", 50, 5000, 300, nullptr, 0},
     {"density", "bulk density first guess, kg/m^3", 100, 5000, 1550, nullptr, 0},
     {"capacity_g", "scale maximum, g", 100, 10000000, 50000, nullptr, 0},
-    {"jiffy_ms", "control period, ms", 1, 100, 10, nullptr, 0},
+    {"jiffy_ms", "control period, ms (read-only: the board's jiffy)", 10, 10, 10, nullptr, 0, true},
     {"filter", "display filter: none, avg (moving average), iir (2nd-order low-pass)", 0, 2, 2,
      kFilterNames, 3},
     {"filter_hz", "display filter corner frequency, Hz", 0.1f, 20, 2, nullptr, 0},
@@ -51,7 +51,43 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      nullptr, 0},
     {"platform_kg", "moving mass at platform_hz (platform and container when the scale reads 0), kg", 0.1f,
      10000, 4, nullptr, 0},
+    {"standstill_timeout_s", "zero and cal wait this long for standstill, then ERR 3 in motion, s", 5, 600, 10,
+     nullptr, 0},
+    {"echo", "echo what is typed on the console: 1 on, 0 off (scripts)", 0, 1, 0, nullptr, 0},
 };
+
+// The longest text write_decimal(value, 3) gives for a value in [minimum, maximum].
+constexpr std::size_t longest_value_text(const ParameterSpec& spec) {
+  if (spec.choices) {
+    std::size_t longest = 0;
+    for (std::uint8_t c = 0; c < spec.choice_count; ++c) {
+      std::size_t n = 0;
+      while (spec.choices[c][n]) ++n;
+      longest = n > longest ? n : longest;
+    }
+    return longest;
+  }
+  const float magnitude = -spec.minimum > spec.maximum ? -spec.minimum : spec.maximum;
+  std::size_t digits = 1;
+  for (float limit = 10.0f; limit <= magnitude; limit *= 10.0f) ++digits;
+  return 1 + digits + 4;  // sign, whole digits, point and three decimals
+}
+
+constexpr std::size_t text_length(const char* text) {
+  std::size_t n = 0;
+  while (text[n]) ++n;
+  return n;
+}
+
+constexpr std::size_t parameter_listing_bytes() {
+  std::size_t bytes = 3;  // OK\n
+  for (const ParameterSpec& spec : kSpecs) {
+    bytes += text_length(spec.name) + 1 + longest_value_text(spec) + 4 + text_length(spec.description) + 1;
+  }
+  return bytes;
+}
+static_assert(parameter_listing_bytes() <= kParameterListingMaxBytes,
+              "the param listing outgrew kParameterListingMaxBytes: raise it (and the console ring if need be)");
 
 }  // namespace
 
@@ -70,6 +106,7 @@ Parameters::Parameters() {
 
 bool Parameters::set(ParameterId id, float value) {
   const ParameterSpec& spec = parameter_spec(id);
+  if (spec.read_only) return false;
   if (!(value >= spec.minimum && value <= spec.maximum)) return false;  // also rejects NaN
   if (spec.choices && value != std::floor(value)) return false;
   values_[static_cast<std::size_t>(id)] = value;

@@ -7,7 +7,7 @@ namespace dynweigh::firmware {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
-constexpr std::uint16_t kVersion = 2;  // 2: the learning table
+constexpr std::uint16_t kVersion = 3;  // 2: the learning table; 3: the zero in whole counts
 
 void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
@@ -41,7 +41,7 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
 }
 
 // Layout, little-endian: magic u32, version u16, parameter count u16, length u32, crc u32 (over
-// everything after it), zero f32, span f32, flags u8 + 3 pad... parameters f32 each.
+// everything after it), zero i32, zero fraction f32, span f32, parameters f32 each, learning table.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity) {
   if (capacity < kSettingsRecordSize) return 0;
   std::memset(out, 0, kSettingsRecordSize);
@@ -52,12 +52,13 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
   out[7] = 0;
   put_u32(out + 8, std::uint32_t(kSettingsRecordSize));
   std::uint8_t* body = out + 16;
-  put_f32(body, settings.calibration.zero_counts);
-  put_f32(body + 4, settings.calibration.counts_per_gram);
+  put_u32(body, std::uint32_t(settings.calibration.zero_counts));
+  put_f32(body + 4, settings.calibration.zero_fraction);
+  put_f32(body + 8, settings.calibration.counts_per_gram);
   // Flags live in the top bits of the parameter count's pad byte to keep the body float-aligned.
   out[7] = std::uint8_t((settings.calibration.zero_set ? 1 : 0) | (settings.calibration.span_set ? 2 : 0));
-  for (std::size_t i = 0; i < kParameterCount; ++i) put_f32(body + 8 + 4 * i, settings.parameters.raw()[i]);
-  std::uint8_t* table = body + 8 + 4 * kParameterCount;
+  for (std::size_t i = 0; i < kParameterCount; ++i) put_f32(body + 12 + 4 * i, settings.parameters.raw()[i]);
+  std::uint8_t* table = body + 12 + 4 * kParameterCount;
   for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
     const LearningTable::Entry& e = settings.learning.entry(i);
     std::uint8_t* p = table + kLearningEntryBytes * i;
@@ -81,22 +82,25 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   if (get_u32(data + 12) != (crc32(data + 16, kSettingsRecordSize - 16) ^ crc32(data, 12))) return false;
   PersistentSettings decoded;
   const std::uint8_t* body = data + 16;
-  decoded.calibration.zero_counts = get_f32(body);
-  decoded.calibration.counts_per_gram = get_f32(body + 4);
+  decoded.calibration.zero_counts = std::int32_t(get_u32(body));
+  decoded.calibration.zero_fraction = get_f32(body + 4);
+  decoded.calibration.counts_per_gram = get_f32(body + 8);
   decoded.calibration.zero_set = (data[7] & 1) != 0;
   decoded.calibration.span_set = (data[7] & 2) != 0;
-  // A calibration no `zero` or `cal` can produce (not finite, span not positive) is dropped: the
-  // indicator then asks for calibration instead of weighing with it (found by fuzz/settings_fuzzer).
+  // A calibration no `zero` or `cal` can produce (a fraction of a count outside [0, 1), a span not
+  // finite or not positive) is dropped: the indicator then asks for calibration instead of weighing
+  // with it (found by fuzz/settings_fuzzer).
   Calibration& cal = decoded.calibration;
-  if (!std::isfinite(cal.zero_counts) || !std::isfinite(cal.counts_per_gram) ||
+  if (!(cal.zero_fraction >= 0.0f && cal.zero_fraction < 1.0f) || !std::isfinite(cal.counts_per_gram) ||
       (cal.span_set && !(cal.counts_per_gram > 0.0f))) {
     cal = Calibration{};
   }
   for (std::size_t i = 0; i < kParameterCount; ++i) {
-    // A value outside today's range (an older firmware's table) falls back to the default.
-    decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 8 + 4 * i));
+    // A value outside today's range (an older firmware's table) falls back to the default, and so
+    // does a read-only one (jiffy_ms: the board's, whatever an older firmware stored).
+    decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 12 + 4 * i));
   }
-  const std::uint8_t* table = body + 8 + 4 * kParameterCount;
+  const std::uint8_t* table = body + 12 + 4 * kParameterCount;
   for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
     const std::uint8_t* p = table + kLearningEntryBytes * i;
     LearningTable::Entry& e = decoded.learning.entry(i);

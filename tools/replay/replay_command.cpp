@@ -74,7 +74,8 @@ firmware::PersistentSettings raw_replay_settings(const Arguments& a) {
     settings = hal::host::factory_settings(plant);
   }
   if (!std::isnan(a.zero_counts)) {
-    settings.calibration.zero_counts = float(a.zero_counts);
+    settings.calibration.zero_counts = std::int32_t(std::floor(a.zero_counts));
+    settings.calibration.zero_fraction = float(a.zero_counts - std::floor(a.zero_counts));
     settings.calibration.zero_set = true;
   }
   if (!std::isnan(a.counts_per_gram)) {

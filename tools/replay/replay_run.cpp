@@ -42,7 +42,7 @@ class ReplayStepper {
       ReplayRow row;
       row.jiffy = jiffy.jiffy;
       row.raw_counts = jiffy.load_cell.raw_counts;
-      row.gross_g = cal.valid() ? (float(row.raw_counts) - cal.zero_counts) / cal.counts_per_gram : 0.0f;
+      row.gross_g = cal.valid() ? cal.counts_above_zero(row.raw_counts) / cal.counts_per_gram : 0.0f;
       row.filtered_g = indicator_->filtered_weight_g();
       row.has_prediction = dosing;
       row.prediction_g = indicator_->last_prediction_g();

@@ -25,7 +25,9 @@ firmware::ValvePosition SimulatedValve::position() const {
 
 firmware::PersistentSettings factory_settings(const sim::Plant& plant) {
   firmware::PersistentSettings settings;
-  settings.calibration.zero_counts = float(plant.empty_counts());
+  const double empty_counts = plant.empty_counts();
+  settings.calibration.zero_counts = std::int32_t(std::floor(empty_counts));
+  settings.calibration.zero_fraction = float(empty_counts - std::floor(empty_counts));
   settings.calibration.counts_per_gram = float(plant.counts_per_gram());
   settings.calibration.zero_set = true;
   settings.calibration.span_set = true;

@@ -12,6 +12,7 @@
 #include "dynweigh/firmware/fault_supervisor.hpp"
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/firmware/standstill_average.hpp"
 #include "dynweigh/firmware/test_data_recorder.hpp"
 #include "dynweigh/firmware/text_writer.hpp"
 
@@ -30,11 +31,17 @@ class Indicator {
 
   const PersistentSettings& settings() const { return settings_; }
   float filtered_weight_g() const;
+  // A weight can be shown: calibrated, and a sample has come and is not stale.
+  bool weight_known() const;
   float last_prediction_g() const { return dosing_.last_prediction_g(); }
   Fault fault() const { return fault_; }
   const FaultSupervisor& supervisor() const { return supervisor_; }
   // A command is still running or queued: a scripted console waits before sending the next line.
   bool busy() const;
+
+  // The longest answer a command writes at once (the `param` listing; `help` and `learn` are checked
+  // against it where they are written). The console ring keeps room for it before a command runs.
+  static constexpr std::size_t kLongestAnswerBytes = kParameterListingMaxBytes;
 
   // The console's commands; public so the command table can name them.
   struct Arguments {
@@ -69,6 +76,19 @@ class Indicator {
     std::uint32_t open_jiffy = 0;
     std::uint32_t close_jiffy = 0;
   };
+  // What the test-data recorder holds: a test cycle, or which dose.
+  struct RecordingSource {
+    bool dose = false;
+    std::uint32_t dose_number = 0;  // doses started since power-up, the first is 1
+    std::int32_t target_g = 0;
+    DosingStrategy strategy = DosingStrategy::model;
+  };
+  // `zero` or `cal` waiting for standstill.
+  struct Adjustment {
+    enum class Kind : std::uint8_t { none, zero, span } kind = Kind::none;
+    std::int32_t grams = 0;
+    std::uint32_t jiffies = 0;
+  };
 
   void receive_console(const Inputs& inputs);
   void execute_queued_commands();
@@ -80,7 +100,20 @@ class Indicator {
   ValveCommand advance_test_cycle();
   void continue_print();
   void apply_parameters();
+  void echo_typed(const char* text);
+  void start_adjustment(Adjustment::Kind kind, std::int32_t grams);
+  void advance_adjustment(bool fresh_sample);
+  void finish_zero();
+  void finish_span();
+  // Counts relative to reference_counts_: the float domain the filter and the dose work in.
+  float relative_counts(std::int32_t raw) const { return float(std::int64_t(raw) - reference_counts_); }
+  // The calibrated zero in those counts (its fraction alone once rebased to it).
+  float zero_relative_counts() const {
+    return relative_counts(settings_.calibration.zero_counts) + settings_.calibration.zero_fraction;
+  }
+  void rebase_to_zero();
 
+  static constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
   bool cycle_running() const;
   bool reject_if_busy();
   void ok() { console_.line("OK"); }
@@ -95,6 +128,9 @@ class Indicator {
   TextWriter console_;
 
   DisplayFilter filter_;
+  std::int32_t reference_counts_ = 0;  // the calibrated zero's whole counts, or the first sample
+  bool has_reference_ = false;
+  std::int32_t raw_sample_ = 0;        // the last fresh sample as it came
   float filtered_counts_ = 0.0f;
   float raw_counts_ = 0.0f;
   bool has_sample_ = false;
@@ -110,6 +146,10 @@ class Indicator {
   bool dose_command_pending_ = false;  // `dose` answers when it ends
   TestCycle test_;
   TestDataRecorder recorder_;
+  RecordingSource recording_source_;
+  std::uint32_t doses_started_ = 0;
+  Adjustment adjustment_;
+  StandstillAverage standstill_;
   bool printing_ = false;
   std::size_t print_index_ = 0;
   ValveCommand manual_valve_ = ValveCommand::closed;

@@ -1,6 +1,7 @@
 #pragma once
 // What the indicator sees and does in one jiffy. Everything a board feeds it and takes from it
 // passes through these two structs, so a recording of Inputs replays the firmware exactly.
+#include <climits>
 #include <cstddef>
 #include <cstdint>
 
@@ -39,6 +40,10 @@ struct Inputs {
   std::size_t console_rx_length = 0;
 };
 
+// The 0x181 frame's weight before the first sample, while samples are stale and while the scale
+// is not calibrated: no weight rather than one computed from nothing.
+inline constexpr std::int32_t kWeightUnknown100mg = INT32_MIN;
+
 enum class IndicatorState : std::uint8_t { idle = 0, dosing = 1, settling = 2, fault = 3 };
 
 struct Outputs {
@@ -46,7 +51,7 @@ struct Outputs {
   std::uint8_t valve_delay_100us = 0;  // SPEC §4 0x220: apply the command this much into the jiffy
   std::uint16_t answered_counter = 0;  // the sample this jiffy answers
   IndicatorState state = IndicatorState::idle;
-  std::int32_t weight_100mg = 0;       // SPEC §4 0x181
+  std::int32_t weight_100mg = 0;       // SPEC §4 0x181, or kWeightUnknown100mg
   bool settings_changed = false;       // the board should persist settings() now
   bool busy = false;                   // a command is still running (dose, test cycle, print)
 };

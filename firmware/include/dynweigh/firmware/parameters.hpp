@@ -33,6 +33,8 @@ enum class ParameterId : std::uint8_t {
   model_estimator,
   platform_hz,
   platform_kg,
+  standstill_timeout_s,
+  echo,
   count
 };
 
@@ -46,9 +48,14 @@ struct ParameterSpec {
   float default_value;
   const char* const* choices;  // a named setting (the value is the index), or nullptr
   std::uint8_t choice_count;
+  bool read_only = false;  // the board decides it: `param` shows it, nothing sets it
 };
 
 const ParameterSpec& parameter_spec(ParameterId id);
+
+// The `param` listing (one `name=value  # description` line a parameter, then OK) fits in this
+// many bytes: parameters.cpp checks it at compile time, the console reserves it before answering.
+inline constexpr std::size_t kParameterListingMaxBytes = 2600;
 // The parameter named `name`, or ParameterId::count.
 ParameterId find_parameter(const char* name);
 
@@ -62,7 +69,7 @@ class Parameters {
  public:
   Parameters();  // every value at its default
   float get(ParameterId id) const { return values_[static_cast<std::size_t>(id)]; }
-  // False when out of range (the value is then unchanged).
+  // False when out of range or read-only (the value is then unchanged).
   bool set(ParameterId id, float value);
 
   FilterKind filter() const { return static_cast<FilterKind>(static_cast<int>(get(ParameterId::filter))); }

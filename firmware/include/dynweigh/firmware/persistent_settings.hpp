@@ -9,12 +9,19 @@
 
 namespace dynweigh::firmware {
 
+// The zero is kept as whole counts and a part of one: a float alone would lose whole counts at an
+// offset of a few million, and a load cell's offset can lie anywhere in the ADC's int32 range.
 struct Calibration {
-  float zero_counts = 0.0f;      // counts of the empty scale
+  std::int32_t zero_counts = 0;  // counts of the empty scale, whole
+  float zero_fraction = 0.0f;    // and the part of a count the average adds, in [0, 1)
   float counts_per_gram = 0.0f;  // span
   bool zero_set = false;
   bool span_set = false;
   bool valid() const { return zero_set && span_set && counts_per_gram > 0.0f; }
+  // `raw` minus the zero, in counts.
+  float counts_above_zero(std::int32_t raw) const {
+    return float(std::int64_t(raw) - zero_counts) - zero_fraction;
+  }
 };
 
 struct PersistentSettings {
@@ -25,7 +32,7 @@ struct PersistentSettings {
 
 inline constexpr std::size_t kLearningEntryBytes = 12;
 inline constexpr std::size_t kSettingsRecordSize =
-    16 + 8 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries;
+    16 + 12 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries;
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 

@@ -34,7 +34,7 @@ struct BoardMps2An386 {
   // `dynweigh plant` simulates. No non-volatile storage on this board: `cal` lasts until reset.
   static firmware::PersistentSettings factory_settings() {
     firmware::PersistentSettings settings;
-    settings.calibration.zero_counts = 12000.0f;
+    settings.calibration.zero_counts = 12000;
     settings.calibration.counts_per_gram = 1.0f;
     settings.calibration.zero_set = true;
     settings.calibration.span_set = true;
