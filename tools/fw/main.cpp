@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
                "once the previous command has finished, and the program exits 0 at end of input."};
   app.add_option("--plant", options.plant, "sim[:<scene>] (in-process plant, lockstep) or can:<transport>")
       ->capture_default_str();
-  app.add_option("--console", options.console, "stdio or pty (prints console=<device>)")
+  app.add_option("--console", options.console,
+                 "stdio, pty (prints console=<device>) or a serial device; pty and devices answer in CR LF")
       ->check(CLI::IsMember({"stdio", "pty"}) | CLI::ExistingPath)
       ->capture_default_str();
   app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time");
