@@ -11,6 +11,8 @@ Cases (--case):
                   for an indicator ends within 1 s of SIGTERM too.
   no_plant        nothing at the other end: stderr says what it waits for; lockstep gives up after
                   --plant-timeout with one line and exit status 3; real time raises can_silence.
+  pty_unread      --console pty with a client that sends commands and never reads the answers: the
+                  pty fills, and every sample is still answered within 0.2 s (nothing waits on it).
   new_nvm         a new --nvm file starts without calibration (`dose` -> ERR 5 not calibrated), said
                   on stderr; without --nvm the default scene's factory calibration, said on stderr.
 """
@@ -84,7 +86,7 @@ class Plant:
                 return data[0]
         return None
 
-    def pump(self, seconds, process=None, period=0.01):
+    def pump(self, seconds, process=None, period=0.01, timeout=1.0):
         """Samples every `period` for `seconds`, each answered; stops early if `process` ended."""
         if self.counter == 0:
             self.wait_for_indicator()
@@ -92,7 +94,7 @@ class Plant:
         while time.monotonic() < end:
             if process is not None and process.poll() is not None:
                 return
-            if self.sample() is None:
+            if self.sample(timeout=timeout) is None:
                 fail(f"no 0x220 answer to sample {self.counter} (after {len(self.commands)} answered)")
             time.sleep(period)
 
@@ -286,6 +288,27 @@ def case_no_plant(args):
         stop(process)
 
 
+def case_pty_unread(args):
+    with tempfile.TemporaryDirectory() as work:
+        link = os.path.join(work, "console")
+        fw_port, plant_port = free_udp_ports(2)
+        plant = Plant(plant_port, fw_port)
+        process, out, err = start_fw(args, fw_port, plant_port, ["--console", "pty", "--pty-link", link])
+        try:
+            plant.pump(0.3, process)
+            client = os.open(link, os.O_RDWR | os.O_NOCTTY)
+            try:
+                for _ in range(60):  # about 120 KB of `param` answers that nobody reads
+                    os.write(client, b"param\r\n")
+                    plant.pump(0.05, process, timeout=0.2)
+                plant.pump(1.0, process, timeout=0.2)
+            finally:
+                os.close(client)
+            print(f"samples_answered={len(plant.commands)} with an unread pty")
+        finally:
+            stop(process)
+
+
 def case_new_nvm(args):
     with tempfile.TemporaryDirectory() as work:
         nvm = os.path.join(work, "scale.nvm")
@@ -322,7 +345,7 @@ def case_new_nvm(args):
 a = argparse.ArgumentParser()
 a.add_argument("--fw", required=True)
 a.add_argument("--dynweigh", default=None)
-a.add_argument("--case", required=True, choices=["console_polled", "signal", "no_plant", "new_nvm"])
+a.add_argument("--case", required=True, choices=["console_polled", "signal", "no_plant", "new_nvm", "pty_unread"])
 args = a.parse_args()
 globals()["case_" + args.case](args)
 print("PASS")
