@@ -19,6 +19,7 @@ const char* fault_name(Fault fault) {
     case Fault::sensor_frozen: return "sensor_frozen";
     case Fault::can_silence: return "can_silence";
     case Fault::bus_off: return "bus_off";
+    case Fault::nvm_error: return "nvm_error";
   }
   return "unknown";
 }

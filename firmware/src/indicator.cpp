@@ -49,7 +49,21 @@ bool Indicator::cycle_running() const {
          adjustment_.kind != Adjustment::Kind::none;
 }
 
-bool Indicator::busy() const { return queue_count_ > 0 || printing_ || cycle_running(); }
+bool Indicator::busy() const {
+  return queue_count_ > 0 || printing_ || answers_after_save_ > 0 || cycle_running();
+}
+
+// Settings that did not reach the storage hold only until power is lost: a fault, not an OK.
+void Indicator::answer_after_save(SettingsSave report) {
+  if (report == SettingsSave::failed) raise(Fault::nvm_error);
+  for (; answers_after_save_ > 0; --answers_after_save_) {
+    if (report == SettingsSave::failed) {
+      error(4, "fault nvm_error");
+    } else {
+      console_.line("OK");
+    }
+  }
+}
 
 void Indicator::error(int code, const char* text) {
   console_.write("ERR ");
@@ -79,6 +93,7 @@ void Indicator::raise(Fault fault) {
 
 Outputs Indicator::step(const Inputs& inputs) {
   settings_changed_ = false;
+  answer_after_save(inputs.settings_save);
   receive_console(inputs);
   process_sample(inputs.load_cell);
   supervise(inputs);
@@ -132,7 +147,7 @@ void Indicator::echo_typed(const char* text) {
 }
 
 void Indicator::execute_queued_commands() {
-  while (queue_count_ > 0 && !printing_ && console_.free_space() >= kRoomForAnAnswer) {
+  while (queue_count_ > 0 && !printing_ && answers_after_save_ == 0 && console_.free_space() >= kRoomForAnAnswer) {
     QueuedLine& line = queue_[queue_head_];
     if (line.too_long) {
       error(2, "line too long");

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # dynweigh-fw --console <device>: the console on an existing serial line. socat links two ptys, as a
-# null-modem cable links two UARTs; pyserial (an independent client) talks on the other end.
+# null-modem cable links two UARTs; pyserial (an independent client) talks on the other end; every
+# answer line ends in CR LF, as on any serial line.
 set -uo pipefail
 bin=$1; work=$(mktemp -d)
 command -v socat >/dev/null || { echo "socat absent: skipped"; exit 77; }
@@ -17,7 +18,10 @@ def ask(line):
     answer = []
     deadline = time.time() + 10
     while time.time() < deadline:
-        text = port.readline().decode().strip()
+        raw = port.readline()
+        if raw and not raw.endswith(b"\r\n"):
+            raise SystemExit(f"answer line {raw!r} does not end in CR LF")
+        text = raw.decode().strip()
         if text:
             answer.append(text)
         if text == "OK" or text.startswith("ERR"):

@@ -7,6 +7,7 @@ on UART0 (-serial stdio) and the plant on UART1 as SLCAN over a unix socket
   --plugin SO:     count the instructions of Indicator::step per jiffy (goal < 20,000 while dosing)
 """
 import argparse
+import io
 import os
 import queue
 import re
@@ -58,6 +59,9 @@ with tempfile.TemporaryDirectory() as tmp:
                                f"active={marks['active']:#x},out={insn_file}", "-d", "plugin"]
     board = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, bufsize=1)
+    # The console UART as bytes arrive: its lines must end in CR LF (a terminal on a serial line).
+    board_stdout = io.TextIOWrapper(board.stdout.buffer, newline="")
+    bare_lf_lines = []
     plant = None
     try:
         # Handshake: QEMU says it waits for the plant's connection before the board starts.
@@ -71,7 +75,9 @@ with tempfile.TemporaryDirectory() as tmp:
         lines = queue.Queue()
 
         def reader():
-            for l in board.stdout:
+            for l in board_stdout:
+                if l.endswith("\n") and not l.endswith("\r\n"):
+                    bare_lf_lines.append(l)
                 lines.put(l.rstrip("\r\n"))
             lines.put(None)
 
@@ -124,6 +130,9 @@ with tempfile.TemporaryDirectory() as tmp:
             if out[-1] != "OK" or len(results) != 1:
                 fail(f"dose answered {out}")
             print(results[0])
+        if bare_lf_lines:
+            fail(f"console lines end in a bare LF, not CR LF: {bare_lf_lines[:3]}")
+        print("console_line_ending=CRLF")
     finally:
         stop(board)  # the plant then sees its link close and prints its summary
         if plant:

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The console on a pty, reached by an independent client (pyserial): `dynweigh-fw --console pty`
-prints console=<device>; starttestdata 50 600, wait for the cycle, readtestdata -> 1000 records."""
+prints console=<device>; starttestdata 50 600, wait for the cycle, readtestdata -> 1000 records.
+Every answer line ends in CR LF, as on a serial line (a terminal program needs the CR)."""
 import argparse
 import re
 import subprocess
@@ -38,6 +39,8 @@ try:
             raw = port.readline()
             if not raw:
                 continue
+            if not raw.endswith(b"\r\n"):
+                fail(f"an answer to {cmd!r} ends in {raw[-2:]!r}, not CR LF: {raw!r}")
             line = raw.decode(errors="replace").rstrip("\r\n")
             if not line:
                 continue

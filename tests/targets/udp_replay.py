@@ -30,8 +30,14 @@ with tempfile.TemporaryDirectory() as d:
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         # 2. Replayed into a fresh indicator: the same test cycle, started at the first sample.
-        fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
-                            input="starttestdata 50 600\nreadtestdata\n", capture_output=True, text=True, timeout=40)
+        # The commands from a file, there before the first sample: the board polls stdin and does not
+        # wait for it, so a pipe's first line could come a few samples in.
+        commands = os.path.join(d, "commands.txt")
+        with open(commands, "w") as f:
+            f.write("starttestdata 50 600\nreadtestdata\n")
+        with open(commands) as stdin:
+            fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
+                                stdin=stdin, capture_output=True, text=True, timeout=40)
         plant_out, _ = plant.communicate(timeout=10)
     finally:
         stop(plant)

@@ -1,8 +1,9 @@
 #include "can_plant_loop.hpp"
 
-#include <csignal>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -12,28 +13,75 @@
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
+#include "dynweigh/hal/host/stream_line_reader.hpp"
+#include "dynweigh/hal/host/tty_console.hpp"
 #include "dynweigh/hal/linux/can_board.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "nvm_start.hpp"
+#include "pty_link.hpp"
+#include "stop_signal.hpp"
 
 namespace dynweigh::tools {
 namespace {
 
 using hal::linux_can::CanBoard;
 
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
-
-// Without --nvm (or with an empty one) the indicator starts with the factory calibration of the
-// default scene's load cell, the one `dynweigh plant` simulates; a real scale needs `zero`/`cal`.
-firmware::PersistentSettings initial_settings(hal::host::FileSettingsStore* store) {
-  firmware::PersistentSettings settings;
-  if (store && store->load(settings)) return settings;
+// What the indicator starts with, said on stderr. Without --nvm: the factory calibration of the
+// default scene's load cell, the one `dynweigh plant` simulates, so the pair works out of the box and
+// nothing persists. With a new (or erased, or unreadable) --nvm file: no calibration at all, as a
+// new indicator on a real installation, commissioned with `zero`, a test weight and `cal <g>`.
+firmware::PersistentSettings initial_settings(NvmStart& nvm, const std::string& path) {
+  if (nvm.stored) {
+    if (nvm.stored->calibration.valid()) {
+      std::fprintf(stderr, "dynweigh-fw: calibration: from --nvm %s\n", path.c_str());
+    } else {
+      std::fprintf(stderr, "dynweigh-fw: calibration: none in --nvm %s yet: commission with zero, a test weight and cal <g>\n",
+                   path.c_str());
+    }
+    return *nvm.stored;
+  }
+  if (nvm.store) {
+    const firmware::PersistentSettings blank;
+    save_starting_settings(nvm, path, blank);
+    std::fprintf(stderr,
+                 "dynweigh-fw: calibration: none (new --nvm %s): commission with zero, a test weight and cal <g>\n",
+                 path.c_str());
+    return blank;
+  }
+  std::fprintf(stderr,
+               "dynweigh-fw: calibration: the default scene's factory calibration (no --nvm; `dynweigh plant`'s "
+               "load cell)\n");
   const sim::Plant reference(sim::default_scene(), 1);
-  settings = hal::host::factory_settings(reference);
-  if (store) store->save(settings);
-  return settings;
+  return hal::host::factory_settings(reference);
 }
+
+// Lockstep: the plant must send the first sample. Says what the board waits for, and gives up
+// after the timeout; a plant that was heard and went away is no reason to stop.
+class FirstSampleWatch {
+ public:
+  FirstSampleWatch(const std::string& link, double timeout_s, bool realtime)
+      : timeout_s_(realtime ? 0.0 : timeout_s), start_(std::chrono::steady_clock::now()) {
+    std::fprintf(stderr, "dynweigh-fw: waiting for the load cell's samples (CAN 0x190) on %s%s\n", link.c_str(),
+                 realtime ? "" : timeout_s > 0 ? " (lockstep: the plant sends first)" : " (lockstep, no time limit)");
+  }
+  // True when the wait is over without a sample.
+  bool expired(const CanBoard& board) const {
+    if (timeout_s_ <= 0 || board.jiffy() > 0) return false;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >= timeout_s_;
+  }
+  int fail(const std::string& link) const {
+    std::fprintf(stderr,
+                 "dynweigh-fw: no load-cell sample (CAN 0x190) on %s in %g s: is the plant running and sending to "
+                 "this port? (--plant-timeout)\n",
+                 link.c_str(), timeout_s_);
+    return kExitNoPlant;
+  }
+
+ private:
+  double timeout_s_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 class CsvTrace {
  public:
@@ -57,45 +105,64 @@ class CsvTrace {
 }  // namespace
 
 int run_can_plant(const CanPlantOptions& options) {
-  std::unique_ptr<hal::host::FileSettingsStore> store;
-  if (!options.nvm.empty()) store = std::make_unique<hal::host::FileSettingsStore>(options.nvm);
-  firmware::Indicator indicator(initial_settings(store.get()));
+  NvmStart nvm = open_nvm(options.nvm, options.nvm_reset);
+  firmware::Indicator indicator(initial_settings(nvm, options.nvm));
   const std::unique_ptr<hal::linux_can::CanTransport> link = hal::linux_can::open_can_transport(options.transport);
   std::unique_ptr<CsvTrace> csv;
   if (!options.csv.empty()) csv = std::make_unique<CsvTrace>(options.csv);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  std::signal(SIGPIPE, SIG_IGN);
+  const FirstSampleWatch first_sample(link->name(), options.plant_timeout_s, options.realtime);
 
-  if (options.console == "pty") {
-    hal::host::PtyConsole console;
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
-    CanBoard board(*link, indicator, console, store.get(), options.realtime);
+  // A serial console (a pty we make, or a device): the board serves it until a signal stops it.
+  const auto serve = [&](hal::ConsolePort& console) {
+    CanBoard board(*link, indicator, console, nvm.store.get(), options.realtime);
     board.send_heartbeat(hal::can::kNmtBootUp);
-    while (!g_stop) {
+    while (!stop_requested()) {
       const CanBoard::Event event = board.poll(100);
       if (event == CanBoard::Event::closed) throw std::runtime_error(link->name() + " closed");
+      if (first_sample.expired(board)) return first_sample.fail(link->name());
       // A plant that stops is not fatal here: the console stays up for the next one.
     }
     board.send_heartbeat(hal::can::kNmtStopped);
     return 0;
+  };
+  if (options.console == "pty") {
+    hal::host::PtyConsole console;
+    const PtyLink pty_link(options.pty_link, console.device_path());
+    std::printf("console=%s\n", console.device_path().c_str());
+    std::fflush(stdout);
+    return serve(console);
+  }
+  if (options.console != "stdio") {
+    hal::host::TtyConsole console(options.console);
+    std::printf("console=%s\n", console.device_path().c_str());
+    std::fflush(stdout);
+    return serve(console);
   }
 
+  // stdin is polled, never waited on: every sample gets its 0x220 whether or not a line has come.
+  hal::host::StreamLineReader lines(STDIN_FILENO);
   hal::host::ScriptedConsole console(
-      [](std::string& line) { return bool(std::getline(std::cin, line)); },
+      [&](std::string& line) {
+        switch (lines.next(line, 0)) {
+          case hal::host::StreamLineReader::Result::line: return hal::host::ScriptedConsole::Poll::line;
+          case hal::host::StreamLineReader::Result::nothing_yet: return hal::host::ScriptedConsole::Poll::nothing_yet;
+          case hal::host::StreamLineReader::Result::ended: break;
+        }
+        return hal::host::ScriptedConsole::Poll::ended;
+      },
       [](const char* data, std::size_t n) {
         std::fwrite(data, 1, n, stdout);
         std::fflush(stdout);
       });
-  CanBoard board(*link, indicator, console, store.get(), options.realtime);
+  CanBoard board(*link, indicator, console, nvm.store.get(), options.realtime);
   board.send_heartbeat(hal::can::kNmtBootUp);
-  while (!g_stop) {
+  while (!stop_requested()) {
     const CanBoard::Event event = board.poll(100);
     if (event == CanBoard::Event::closed) {
       std::fprintf(stderr, "dynweigh-fw: %s closed\n", link->name().c_str());
       return 1;
     }
+    if (first_sample.expired(board)) return first_sample.fail(link->name());
     if (event == CanBoard::Event::plant_stopped) {
       if (console.input_ended() && !board.last_outputs().busy) break;
       std::fprintf(stderr, "dynweigh-fw: the plant stopped (load-cell heartbeat: stopped) at jiffy %u\n", board.jiffy());
@@ -109,7 +176,7 @@ int run_can_plant(const CanPlantOptions& options) {
   }
   // Tell the plant this indicator is leaving (CiA 301 heartbeat, NMT state stopped).
   board.send_heartbeat(hal::can::kNmtStopped);
-  return 0;
+  return stop_requested() ? 128 + stop_signal() : 0;
 }
 
 }  // namespace dynweigh::tools

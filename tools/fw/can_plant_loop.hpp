@@ -12,7 +12,13 @@ struct CanPlantOptions {
   bool realtime = false;
   std::string csv;
   std::string nvm;
+  bool nvm_reset = false;
+  std::string pty_link;
+  double plant_timeout_s = 10.0;  // lockstep: no first sample within this long is an error (0: wait)
 };
+
+// Exit status when a lockstep plant never sent a sample within plant_timeout_s.
+inline constexpr int kExitNoPlant = 3;
 
 // Returns the process exit status; throws std::runtime_error with a one-line reason at set-up.
 int run_can_plant(const CanPlantOptions& options);

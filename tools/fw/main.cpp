@@ -1,6 +1,8 @@
 // dynweigh-fw: the indicator firmware on a host, against the in-process plant (SPEC §5).
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -13,9 +15,13 @@
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
+#include "dynweigh/hal/host/stream_line_reader.hpp"
 #include "dynweigh/hal/host/tty_console.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "can_plant_loop.hpp"
+#include "nvm_start.hpp"
+#include "pty_link.hpp"
+#include "stop_signal.hpp"
 #include "trace_csv.hpp"
 
 namespace {
@@ -29,7 +35,10 @@ struct Options {
   std::uint64_t seed = 1;
   std::string csv;
   std::string nvm;
+  bool nvm_reset = false;
   std::string record;  // every jiffy's Inputs, for dynweigh replay
+  std::string pty_link;
+  double plant_timeout_s = 10.0;
 };
 
 sim::Scene scene_from_plant_option(const std::string& plant) {
@@ -43,19 +52,15 @@ sim::Scene scene_from_plant_option(const std::string& plant) {
 }
 
 int run(const Options& options) {
+  tools::install_stop_handlers();
   if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
-    return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm});
+    return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm,
+                                 options.nvm_reset, options.pty_link, options.plant_timeout_s});
   }
   const sim::Scene scene = scene_from_plant_option(options.plant);
-  std::unique_ptr<hal::host::FileSettingsStore> store;
-  std::optional<firmware::PersistentSettings> stored;
-  if (!options.nvm.empty()) {
-    store = std::make_unique<hal::host::FileSettingsStore>(options.nvm);
-    firmware::PersistentSettings settings;
-    if (store->load(settings)) stored = settings;
-  }
-  hal::host::LockstepSession session(scene, options.seed, stored, store.get());
-  if (store && !stored) store->save(session.indicator().settings());
+  tools::NvmStart nvm = tools::open_nvm(options.nvm, options.nvm_reset);
+  hal::host::LockstepSession session(scene, options.seed, nvm.stored, nvm.store.get());
+  tools::save_starting_settings(nvm, options.nvm, session.indicator().settings());
   std::unique_ptr<tools::TraceCsv> csv;
   // --record: the same step, with every jiffy's Inputs and Outputs written for dynweigh replay.
   std::unique_ptr<hal::host::LockstepRecorder> recorder;
@@ -69,40 +74,56 @@ int run(const Options& options) {
 
   // A serial line (a pty we make, or a device): idle and silent, the plant follows the wall clock;
   // busy, it runs ahead in lockstep unless --realtime.
+  // SIGINT or SIGTERM ends a serial console's loop (the pty link goes with it).
   const auto serve = [&](auto& console) {
-    for (bool busy = false;;) {
+    for (bool busy = false; !tools::stop_requested();) {
       if (!busy && !options.realtime) console.wait_for_input(10);
       busy = step(console).busy;
       if (csv) csv->write(session.last_row());
       clock.wait_next_jiffy();
     }
+    return 0;
   };
   if (options.console == "pty") {
     hal::host::PtyConsole console;
+    const tools::PtyLink link(options.pty_link, console.device_path());
     std::printf("console=%s\n", console.device_path().c_str());
     std::fflush(stdout);
-    serve(console);
+    return serve(console);
   }
   if (options.console != "stdio") {
     hal::host::TtyConsole console(options.console);
     std::printf("console=%s\n", console.device_path().c_str());
     std::fflush(stdout);
-    serve(console);
+    return serve(console);
   }
 
+  // stdin, read without blocking the loop. In lockstep the plant's time stands still while the
+  // indicator is idle and no line has come (the loop waits on stdin, but a signal ends the wait);
+  // in real time the plant goes on and stdin is only polled.
+  hal::host::StreamLineReader lines(STDIN_FILENO, tools::stop_requested);
+  const int idle_wait_ms = options.realtime ? 0 : -1;
   hal::host::ScriptedConsole console(
-      [](std::string& line) { return bool(std::getline(std::cin, line)); },
+      [&](std::string& line) {
+        switch (lines.next(line, idle_wait_ms)) {
+          case hal::host::StreamLineReader::Result::line: return hal::host::ScriptedConsole::Poll::line;
+          case hal::host::StreamLineReader::Result::nothing_yet: return hal::host::ScriptedConsole::Poll::nothing_yet;
+          case hal::host::StreamLineReader::Result::ended: break;
+        }
+        return hal::host::ScriptedConsole::Poll::ended;
+      },
       [](const char* data, std::size_t n) {
         std::fwrite(data, 1, n, stdout);
         std::fflush(stdout);
       });
-  for (;;) {
+  while (!tools::stop_requested()) {
     const firmware::Outputs outputs = step(console);
     if (csv) csv->write(session.last_row());
     console.set_indicator_busy(outputs.busy);
     if (console.input_ended() && !outputs.busy) return 0;
     clock.wait_next_jiffy();
   }
+  return 128 + tools::stop_signal();
 }
 
 }  // namespace
@@ -114,13 +135,24 @@ int main(int argc, char** argv) {
                "once the previous command has finished, and the program exits 0 at end of input."};
   app.add_option("--plant", options.plant, "sim[:<scene>] (in-process plant, lockstep) or can:<transport>")
       ->capture_default_str();
-  app.add_option("--console", options.console, "stdio or pty (prints console=<device>)")
+  app.add_option("--console", options.console,
+                 "stdio, pty (prints console=<device>) or a serial device; pty and devices answer in CR LF")
       ->check(CLI::IsMember({"stdio", "pty"}) | CLI::ExistingPath)
       ->capture_default_str();
   app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time");
   app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
   app.add_option("--csv", options.csv, "write one row per jiffy: plant truth beside the firmware's view");
-  app.add_option("--nvm", options.nvm, "keep calibration and parameters in this file");
+  app.add_option("--nvm", options.nvm,
+                 "keep calibration and parameters in this file (created if absent; a path that cannot be "
+                 "written is refused)");
+  app.add_flag("--nvm-reset", options.nvm_reset, "start from defaults, erasing what the --nvm file holds");
+  app.add_option("--pty-link", options.pty_link,
+                 "with --console pty: a symlink PATH to the pty's device, removed at exit");
+  app.add_option("--plant-timeout", options.plant_timeout_s,
+                 "--plant can: in lockstep, give up with exit status 3 when no load-cell sample came in this "
+                 "many seconds (0: wait for ever)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
   try {
     app.parse(argc, argv);
@@ -128,6 +160,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());
+    return 2;
+  }
+  if (options.nvm_reset && options.nvm.empty()) {
+    std::fprintf(stderr, "dynweigh-fw: --nvm-reset needs --nvm FILE\n");
+    return 2;
+  }
+  if (!options.pty_link.empty() && options.console != "pty") {
+    std::fprintf(stderr, "dynweigh-fw: --pty-link works with --console pty only\n");
     return 2;
   }
   if (!options.record.empty() && options.plant.rfind("can:", 0) == 0) {

@@ -48,6 +48,12 @@ ByteRing<2048> g_console_tx;
 ByteRing<256> g_console_rx;
 ByteRing<512> g_plant_tx;
 
+// Answers on the UART end in CR LF.
+void push_console(char c) {
+  if (c == '\n') g_console_tx.push('\r');
+  g_console_tx.push(c);
+}
+
 void send_frame(const can::CanFrame& frame) {
   char line[can::kSlcanMaxLine];
   const std::size_t n = can::slcan_encode(frame, line, sizeof line);
@@ -92,12 +98,14 @@ void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample, bool answer =
     send_frame(can::encode(can::IndicatorStatusMessage{out.weight_100mg, static_cast<std::uint8_t>(out.state),
                                                        static_cast<std::uint8_t>(out.valve), out.answered_counter}));
   }
-  // The console drains at the UART's pace: take from the indicator only what the ring can hold.
-  char tx[256];
-  for (std::size_t n; g_console_tx.free_space() > 0 &&
-                      (n = g_indicator.drain_console(tx, g_console_tx.free_space() < sizeof tx ? g_console_tx.free_space()
-                                                                                                : sizeof tx)) > 0;) {
-    for (std::size_t i = 0; i < n; ++i) g_console_tx.push(tx[i]);
+  // The console drains at the UART's pace: take from the indicator only what the ring can hold,
+  // each '\n' going out as CR LF (a terminal on a serial line needs the CR), so at most half of it.
+  char tx[128];
+  for (std::size_t n; g_console_tx.free_space() >= 2 &&
+                      (n = g_indicator.drain_console(tx, g_console_tx.free_space() / 2 < sizeof tx
+                                                             ? g_console_tx.free_space() / 2
+                                                             : sizeof tx)) > 0;) {
+    for (std::size_t i = 0; i < n; ++i) push_console(tx[i]);
   }
   ++state.jiffy;
 }
@@ -144,7 +152,7 @@ extern "C" int board_main() {
   for (const char* p = fw::kFirmwareVersion; *p; ++p) g_console_tx.push(*p);
   for (const char* p = " on "; *p; ++p) g_console_tx.push(*p);
   for (const char* p = Board::kName; *p; ++p) g_console_tx.push(*p);
-  g_console_tx.push('\n');
+  push_console('\n');
   send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtBootUp}));
 
   can::SlcanDecoder decoder;

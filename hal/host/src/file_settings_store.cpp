@@ -1,11 +1,59 @@
 #include "dynweigh/hal/host/file_settings_store.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
 
 namespace dynweigh::hal::host {
+namespace {
+
+std::runtime_error nvm_error(const std::string& path, const std::string& reason) {
+  return std::runtime_error("--nvm " + path + ": " + reason);
+}
+
+bool all_erased(int fd) {
+  std::vector<std::uint8_t> bytes(firmware::kSettingsSlotsBytes);
+  return ::pread(fd, bytes.data(), bytes.size(), 0) == ssize_t(bytes.size()) &&
+         std::all_of(bytes.begin(), bytes.end(), [](std::uint8_t b) { return b == 0xFF; });
+}
+
+void erase(int fd, const std::string& path) {
+  const std::vector<std::uint8_t> erased(firmware::kSettingsSlotsBytes, 0xFF);
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, erased.data(), erased.size(), 0) != ssize_t(erased.size()) ||
+      ::fsync(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::close(fd);
+    throw nvm_error(path, "cannot write: " + reason);
+  }
+}
+
+}  // namespace
+
+NvmFile prepare_nvm_file(const std::string& path, bool reset) {
+  struct stat st {};
+  const bool exists = ::stat(path.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode)) throw nvm_error(path, "is a directory, not a file");
+  if (exists && !S_ISREG(st.st_mode)) throw nvm_error(path, "is not a regular file");
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw nvm_error(path, std::string(exists ? "cannot open for writing: " : "cannot create: ") + std::strerror(errno));
+  NvmFile state = NvmFile::sized;
+  if (!exists || reset) {
+    erase(fd, path);
+    state = exists ? NvmFile::erased : NvmFile::created;
+  } else if (st.st_size != off_t(firmware::kSettingsSlotsBytes)) {
+    state = NvmFile::wrong_size;
+  } else if (all_erased(fd)) {
+    state = NvmFile::erased;
+  }
+  ::close(fd);
+  return state;
+}
 
 bool FileNvm::read(std::size_t offset, std::uint8_t* data, std::size_t length) const {
   if (offset + length > size()) return false;

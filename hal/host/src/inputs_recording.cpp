@@ -12,6 +12,9 @@ namespace {
 constexpr std::uint8_t kJiffyTag = 'J';
 constexpr std::uint8_t kFlagFresh = 0x01;
 constexpr std::uint8_t kFlagOutputs = 0x02;
+// bits 2-3: the board's word on the last save (firmware::SettingsSave: 0 none, 1 saved, 2 failed)
+constexpr unsigned kSaveShift = 2;
+constexpr std::uint8_t kFlagSaveMask = 0x3u << kSaveShift;
 constexpr std::uint8_t kBitBusy = 0x01;
 constexpr std::uint8_t kBitSettingsChanged = 0x02;
 constexpr std::size_t kMaxSourceLength = 1024;
@@ -86,6 +89,7 @@ firmware::Inputs RecordedJiffy::inputs() const {
   in.valve_position = valve_position;
   in.console_rx = console_rx.empty() ? nullptr : console_rx.data();
   in.console_rx_length = console_rx.size();
+  in.settings_save = settings_save;
   return in;
 }
 
@@ -129,7 +133,8 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
   put_u32(r, std::uint32_t(j.load_cell.raw_counts));
   put_u16(r, j.load_cell.counter);
   put_u8(r, j.load_cell.status);
-  put_u8(r, std::uint8_t((j.load_cell.fresh ? kFlagFresh : 0) | (j.has_outputs ? kFlagOutputs : 0)));
+  put_u8(r, std::uint8_t((j.load_cell.fresh ? kFlagFresh : 0) | (j.has_outputs ? kFlagOutputs : 0) |
+                         (static_cast<unsigned>(j.settings_save) << kSaveShift)));
   put_u8(r, static_cast<std::uint8_t>(j.valve_position));
   put_u16(r, std::uint16_t(j.console_rx.size()));
   r += j.console_rx;
@@ -209,9 +214,12 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
   j.load_cell.status = in.u8("a record");
   const std::uint8_t flags = in.u8("a record");
   const std::uint8_t position = in.u8("a record");
-  if ((flags & ~(kFlagFresh | kFlagOutputs)) != 0 || position > 3) {
+  const unsigned save = (flags & kFlagSaveMask) >> kSaveShift;
+  if ((flags & ~(kFlagFresh | kFlagOutputs | kFlagSaveMask)) != 0 || position > 3 ||
+      save > static_cast<unsigned>(firmware::SettingsSave::failed)) {
     throw std::runtime_error(where + " is damaged (bad flags)");
   }
+  j.settings_save = static_cast<firmware::SettingsSave>(save);
   j.load_cell.fresh = (flags & kFlagFresh) != 0;
   j.valve_position = static_cast<firmware::ValvePosition>(position);
   const std::uint16_t rx_length = in.u16("a record");
@@ -276,6 +284,7 @@ firmware::Outputs LockstepRecorder::step(ConsolePort& console) {
   j.load_cell.raw_counts = session_.last_row().raw;
   j.load_cell.counter = live.answered_counter;  // the indicator answers the sample's counter
   j.load_cell.fresh = true;                     // the in-process plant samples every jiffy
+  j.settings_save = session_.last_save_report();
   j.has_outputs = true;
   j.outputs = live;
 

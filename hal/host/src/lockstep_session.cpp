@@ -12,8 +12,10 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
 
 firmware::Outputs LockstepSession::step(ConsolePort& console) {
   const sim::PlantTruth truth = plant_.truth();  // at the instant the sample is taken
-  Ports ports{load_cell_, valve_, console, store_};
+  Ports ports{load_cell_, valve_, console, store_, save_report_};
+  last_save_report_ = save_report_;
   const firmware::Outputs outputs = run_one_jiffy(indicator_, ports, jiffy_);
+  save_report_ = ports.save_report;
   row_ = TraceRow{truth.time_s, jiffy_, truth.static_kg, truth.in_flight_kg, truth.force_n,
                   load_cell_.last().raw_counts, double(indicator_.filtered_weight_g()),
                   static_cast<int>(outputs.valve)};

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+
 namespace dynweigh::hal::host {
 
 PtyConsole::PtyConsole() {
@@ -41,24 +42,11 @@ bool PtyConsole::wait_for_input(int timeout_ms) const {
 }
 
 std::size_t PtyConsole::read(char* destination, std::size_t capacity) {
+  output_.flush(master_);  // once a jiffy: what the line took since
   const ssize_t n = ::read(master_, destination, capacity);
   return n > 0 ? std::size_t(n) : 0;
 }
 
-void PtyConsole::write(const char* data, std::size_t length) {
-  while (length > 0) {
-    const ssize_t n = ::write(master_, data, length);
-    if (n < 0) {
-      if (errno == EAGAIN || errno == EINTR) {
-        pollfd fd{master_, POLLOUT, 0};
-        if (::poll(&fd, 1, 1000) <= 0) return;  // nobody reads: drop rather than hang the loop
-        continue;
-      }
-      return;
-    }
-    data += n;
-    length -= std::size_t(n);
-  }
-}
+void PtyConsole::write(const char* data, std::size_t length) { output_.write(master_, data, length); }
 
 }  // namespace dynweigh::hal::host

@@ -8,9 +8,10 @@ std::size_t ScriptedConsole::read(char* destination, std::size_t capacity) {
   if (pending_.empty()) {
     if (busy_ || ended_) return 0;
     std::string line;
-    if (!source_(line)) {
-      ended_ = true;
-      return 0;
+    switch (source_(line)) {
+      case Poll::line: break;
+      case Poll::nothing_yet: return 0;
+      case Poll::ended: ended_ = true; return 0;
     }
     pending_ = line + "\n";
     busy_ = true;  // until the indicator says otherwise after this jiffy

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
+
 namespace dynweigh::hal::host {
 namespace {
 speed_t speed_for(int baud) {
@@ -49,24 +50,11 @@ bool TtyConsole::wait_for_input(int timeout_ms) const {
 }
 
 std::size_t TtyConsole::read(char* destination, std::size_t capacity) {
+  output_.flush(fd_);  // once a jiffy: what the line took since
   const ssize_t n = ::read(fd_, destination, capacity);
   return n > 0 ? std::size_t(n) : 0;
 }
 
-void TtyConsole::write(const char* data, std::size_t length) {
-  while (length > 0) {
-    const ssize_t n = ::write(fd_, data, length);
-    if (n < 0) {
-      if (errno == EAGAIN || errno == EINTR) {
-        pollfd fd{fd_, POLLOUT, 0};
-        if (::poll(&fd, 1, 1000) <= 0) return;  // nobody reads: drop rather than stall the loop
-        continue;
-      }
-      return;
-    }
-    data += n;
-    length -= std::size_t(n);
-  }
-}
+void TtyConsole::write(const char* data, std::size_t length) { output_.write(fd_, data, length); }
 
 }  // namespace dynweigh::hal::host

@@ -70,8 +70,9 @@ void CanBoard::run_jiffy_without_sample() {
 void CanBoard::run_jiffy(firmware::LinkStatus link, bool answer) {
   load_cell_.set_link(link);
   heard_since_jiffy_ = false;
-  Ports ports{load_cell_, valve_, console_, store_};
+  Ports ports{load_cell_, valve_, console_, store_, save_report_};
   outputs_ = run_one_jiffy(indicator_, ports, jiffy_);
+  save_report_ = ports.save_report;
   if (answer) {
     // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
     transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(valve_.last_command()),

@@ -22,6 +22,8 @@ enum class Fault : std::uint8_t {
   // The plant link's (io.hpp LinkStatus, reported by a CAN board):
   can_silence,  // nothing heard on the bus for 100 ms: the link, not just the load cell, is dead
   bus_off,      // the transport went bus-off (or its link down): no command reaches the valve
+  // The board's settings storage (io.hpp SettingsSave):
+  nvm_error,  // a save of calibration or parameters failed: they hold only until power is lost
 };
 
 const char* fault_name(Fault fault);

@@ -116,11 +116,20 @@ class Indicator {
   static constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
   bool cycle_running() const;
   bool reject_if_busy();
-  void ok() { console_.line("OK"); }
+  // A command that changed the settings answers once the board has said whether it saved them.
+  void ok() {
+    if (settings_changed_) {
+      ++answers_after_save_;
+    } else {
+      console_.line("OK");
+    }
+  }
+  void answer_after_save(SettingsSave report);
   void error(int code, const char* text);
 
   PersistentSettings settings_;
   bool settings_changed_ = false;
+  std::uint8_t answers_after_save_ = 0;  // OKs held until the board reports the save
   ConsoleLineReader reader_;
   static constexpr std::size_t kQueue = 4;
   QueuedLine queue_[kQueue];

@@ -32,12 +32,17 @@ inline constexpr std::uint8_t kLoadCellOverload = 0x01;
 inline constexpr std::uint8_t kLoadCellUnderload = 0x02;
 inline constexpr std::uint8_t kLoadCellAdcError = 0x04;
 
+// The board's word on the settings the indicator asked it to keep in the last jiffy
+// (Outputs::settings_changed): saved, failed, or `none` (nothing asked, or a board without storage).
+enum class SettingsSave : std::uint8_t { none = 0, saved, failed };
+
 struct Inputs {
   std::uint32_t jiffy = 0;
   LoadCellInput load_cell;
   ValvePosition valve_position = ValvePosition::closed;
   const char* console_rx = nullptr;  // bytes that arrived since the last jiffy
   std::size_t console_rx_length = 0;
+  SettingsSave settings_save = SettingsSave::none;
 };
 
 // The 0x181 frame's weight before the first sample, while samples are stale and while the scale

@@ -12,6 +12,9 @@ struct Ports {
   ValvePort& valve;
   ConsolePort& console;
   SettingsStore* settings = nullptr;  // nothing persists without one
+  // How the save asked for in the last jiffy went: the next jiffy's Inputs tell the indicator, so
+  // a recording of Inputs replays a failed save too. A board keeps it from one jiffy to the next.
+  firmware::SettingsSave save_report = firmware::SettingsSave::none;
 };
 
 inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& ports, std::uint32_t jiffy) {
@@ -22,11 +25,17 @@ inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& po
   inputs.valve_position = ports.valve.position();
   inputs.console_rx = rx;
   inputs.console_rx_length = ports.console.read(rx, sizeof rx);
+  inputs.settings_save = ports.save_report;
   const firmware::Outputs outputs = indicator.step(inputs);
   ports.valve.command(outputs.valve, outputs.valve_delay_100us);
   char tx[512];
-  for (std::size_t n; (n = indicator.drain_console(tx, sizeof tx)) > 0;) ports.console.write(tx, n);
-  if (outputs.settings_changed && ports.settings) ports.settings->save(indicator.settings());
+  for (std::size_t room, n; (room = ports.console.writable()) > 0 &&
+                            (n = indicator.drain_console(tx, room < sizeof tx ? room : sizeof tx)) > 0;) {
+    ports.console.write(tx, n);
+  }
+  ports.save_report = !outputs.settings_changed || !ports.settings      ? firmware::SettingsSave::none
+                      : ports.settings->save(indicator.settings()) ? firmware::SettingsSave::saved
+                                                                   : firmware::SettingsSave::failed;
   return outputs;
 }
 

@@ -41,6 +41,10 @@ class ConsolePort {
   virtual ~ConsolePort() = default;
   virtual std::size_t read(char* destination, std::size_t capacity) = 0;
   virtual void write(const char* data, std::size_t length) = 0;
+  // How many bytes write() takes now without waiting and without losing any. The board drains no
+  // more than this from the indicator; the rest waits in the indicator's ring (a line nobody reads
+  // holds the console up, never the control loop).
+  virtual std::size_t writable() const { return static_cast<std::size_t>(-1); }
 };
 
 // Non-volatile storage for calibration and parameters.

@@ -21,6 +21,20 @@ class FileNvm final : public firmware::NvmBlock {
   std::string path_;
 };
 
+// What a --nvm file was when the board started, after prepare_nvm_file.
+enum class NvmFile {
+  created,     // there was none: made now, erased (0xFF) at its full size, as a new board's EEPROM
+  erased,      // full size and never written (or reset with --nvm-reset): a new board
+  sized,       // full size, written before: load() tells whether a record is intact
+  wrong_size,  // shorter (truncated) or longer than the two slots: damaged, or not ours
+};
+
+// Checks that `path` can keep the settings: an existing regular file the board can read and write,
+// or a new one it can create (created now). `reset` erases what the file holds. Throws
+// std::runtime_error with one line naming the path and the reason (a directory, a missing folder,
+// no permission, not a regular file).
+NvmFile prepare_nvm_file(const std::string& path, bool reset);
+
 class FileSettingsStore final : public SettingsStore {
  public:
   explicit FileSettingsStore(std::string path) : nvm_(std::move(path)), slots_(nvm_) {}

@@ -13,7 +13,8 @@
 //           (firmware::encode_settings: magic, version, CRC), u16 source length, source text
 //           (a free note: which program and plant made it), u32 CRC-32 of the header so far
 //   jiffy   u8 'J', u32 jiffy, i32 raw counts, u16 sample counter, u8 status, u8 flags
-//           (bit0 fresh sample, bit1 outputs follow), u8 valve position, u16 rx length, rx bytes,
+//           (bit0 fresh sample, bit1 outputs follow, bits 2-3 the last save: 0 none, 1 saved,
+//           2 failed), u8 valve position, u16 rx length, rx bytes,
 //           [outputs: u8 valve, u8 delay_100us, u16 answered counter, u8 state, i32 weight_100mg,
 //           u8 bits (bit0 busy, bit1 settings_changed), u32 tx length, tx bytes],
 //           u32 CRC-32 of the record from 'J' on
@@ -44,6 +45,7 @@ struct RecordedJiffy {
   firmware::LoadCellInput load_cell;
   firmware::ValvePosition valve_position = firmware::ValvePosition::closed;
   std::string console_rx;
+  firmware::SettingsSave settings_save = firmware::SettingsSave::none;
   bool has_outputs = false;  // what the live run decided, for checking a replay
   firmware::Outputs outputs;
   std::string console_tx;
@@ -104,6 +106,8 @@ class InputsRecordingReader {
 };
 
 // A console port that passes everything through and keeps this jiffy's bytes in both directions.
+// It takes all the indicator has each jiffy (the default ConsolePort::writable), as a replay drains
+// it, so the recorded jiffies replay exactly.
 class ConsoleTap final : public ConsolePort {
  public:
   explicit ConsoleTap(ConsolePort& inner) : inner_(inner) {}

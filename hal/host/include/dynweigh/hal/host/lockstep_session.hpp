@@ -41,6 +41,8 @@ class LockstepSession {
   firmware::Indicator& indicator() { return indicator_; }
   std::uint32_t jiffy() const { return jiffy_; }
   const TraceRow& last_row() const { return row_; }
+  // The board's word on the last save that the last step's Inputs carried.
+  firmware::SettingsSave last_save_report() const { return last_save_report_; }
 
  private:
   class RecordingLoadCell final : public LoadCellPort {
@@ -59,6 +61,8 @@ class LockstepSession {
   SimulatedValve valve_;
   firmware::Indicator indicator_;
   SettingsStore* store_;
+  firmware::SettingsSave save_report_ = firmware::SettingsSave::none;       // for the next step
+  firmware::SettingsSave last_save_report_ = firmware::SettingsSave::none;  // the last step had
   std::uint32_t jiffy_ = 0;
   TraceRow row_;
 };

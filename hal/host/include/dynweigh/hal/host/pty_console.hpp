@@ -3,6 +3,7 @@
 // they would a UART. Raw mode, non-blocking.
 #include <string>
 
+#include "dynweigh/hal/host/serial_output.hpp"
 #include "dynweigh/hal/ports.hpp"
 
 namespace dynweigh::hal::host {
@@ -19,9 +20,12 @@ class PtyConsole final : public ConsolePort {
   bool wait_for_input(int timeout_ms) const;
 
   std::size_t read(char* destination, std::size_t capacity) override;
+  // Answers end in CR LF on a serial line; never waits for the reader (serial_output.hpp).
   void write(const char* data, std::size_t length) override;
+  std::size_t writable() const override { return output_.writable(); }
 
  private:
+  SerialOutput output_;
   int master_ = -1;
   int slave_ = -1;  // kept open so the master never sees a hang-up between clients
   std::string path_;

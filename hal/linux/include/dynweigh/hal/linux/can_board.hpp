@@ -109,6 +109,7 @@ class CanBoard {
   std::uint32_t jiffy_ = 0;
   std::uint32_t ignored_ = 0;
   std::int32_t last_raw_ = 0;
+  firmware::SettingsSave save_report_ = firmware::SettingsSave::none;
   firmware::Outputs outputs_{};
 };
 
