@@ -131,12 +131,12 @@ class DoseLog:
                 print(f"fill target={d.target} truth_g={d.truth_g:.1f} error_g={d.truth_g - d.target:.1f}")
 
 
-def run_protected(body, failures, plant_holder):
+def run_protected(body, failures, plant_holder, name=""):
     """Runs the scenario; a protocol error (a sample left unanswered) ends it as a failure."""
     try:
         body()
     except ProtocolError as e:
-        failures.check(False, f"protocol error: {e}")
+        failures.check(False, (f"{name}: " if name else "") + f"protocol error: {e}")
     finally:
         plant = plant_holder.get("plant")
         if plant:

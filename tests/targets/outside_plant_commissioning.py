@@ -92,7 +92,7 @@ def uncalibrated_dose_refused(fw, failures, directory):
                        f"the uncalibrated indicator opened the valve: {plant.physics.released_kg:.3f} kg released")
 
     os.makedirs(directory + "/uncalibrated")
-    run_protected(body, failures, holder)
+    run_protected(body, failures, holder, "fresh indicator")
 
 
 def commission(fw, failures, directory, offset, gain, noise, seed):
@@ -139,7 +139,7 @@ def commission(fw, failures, directory, offset, gain, noise, seed):
         failures.check(abs(loaded - truth) <= bound,
                        f"{name}: a {CHECK_KG} kg load reads {loaded:.2f} g, not {truth:.0f} within {bound:.2f} g")
 
-    run_protected(body, failures, holder)
+    run_protected(body, failures, holder, name)
 
 
 def motion_refused(fw, failures, directory):
@@ -170,7 +170,7 @@ def motion_refused(fw, failures, directory):
                 plant.shake(0.05, 1.5)
                 plant.run(1.0)
 
-    run_protected(body, failures, holder)
+    run_protected(body, failures, holder, "moving platform")
 
 
 def main():

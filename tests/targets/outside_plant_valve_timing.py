@@ -110,7 +110,7 @@ def one_valve(fw, failures, dead_ms, stroke_ms, moving, sticks):
                                f"have shut, not within {CATCH_WITHIN_S * 1000:.0f} ms")
         protocol_clean(plant, failures, f"{name}: ")
 
-    run_protected(body, failures, holder)
+    run_protected(body, failures, holder, name)
 
 
 def main():
