@@ -72,6 +72,11 @@ void Indicator::finish_span() {
   cal.span_set = true;
   tare_g_ = 0.0f;
   settings_changed_ = true;
+  if (span_counts < kCoarseSpanCounts) {
+    console_.write("NOTE coarse span: ");
+    console_.write_decimal(1.0f / cal.counts_per_gram, 1);
+    console_.line(" g per count; a heavier test weight or more gain resolves the scale better");
+  }
   ok();
 }
 

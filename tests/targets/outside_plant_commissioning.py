@@ -122,11 +122,13 @@ def commission(fw, failures, directory, offset, gain, noise, seed):
             return
         print(f"cal answered after {(cal.answered_jiffy - cal.sent_jiffy) * 0.01:.2f} s")
         plant.take_weight(SET_DOWN_S)
+        plant.run(SET_DOWN_S)  # the ramp first: before it moves, the platform is at rest
         settle(plant)
         empty, readings = mean_status_weight(plant)
         if not failures.check(empty is not None, f"{name}: status answered {readings}"):
             return
         plant.put_weight(CHECK_KG, 1.0)
+        plant.run(1.0)
         settle(plant)
         loaded, readings = mean_status_weight(plant)
         if not failures.check(loaded is not None, f"{name}: status answered {readings}"):

@@ -113,7 +113,10 @@ class Indicator {
   }
   void rebase_to_zero();
 
-  static constexpr float kMinimumSpanCounts = 100.0f;  // less cannot resolve a span to 1 %
+  // A load cell of 1 count per kg under a 10 kg test weight still has a span (10 counts); fewer than
+  // a handful of counts is no load at all. Under kCoarseSpanCounts the answer warns of the resolution.
+  static constexpr float kMinimumSpanCounts = 5.0f;
+  static constexpr float kCoarseSpanCounts = 100.0f;
   bool cycle_running() const;
   bool reject_if_busy();
   // A command that changed the settings answers once the board has said whether it saved them.
