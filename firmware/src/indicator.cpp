@@ -183,6 +183,9 @@ void Indicator::advance_dose() {
     case DosingCycle::Outcome::never_stable:
       raise(Fault::never_stable);
       return;
+    case DosingCycle::Outcome::nothing_delivered:
+      raise(Fault::no_flow);
+      return;
     case DosingCycle::Outcome::certified:
       break;
   }

@@ -27,7 +27,12 @@ struct DoseResult {
 class DosingCycle {
  public:
   enum class Phase : std::uint8_t { idle, dosing, settling };
-  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable };
+  // `nothing_delivered`: whatever the strategy, a dose whose certified fill is no more than its own
+  // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) delivered
+  // nothing a filling line can use: a silo run empty, a valve that let nothing through, while a
+  // strategy closed on its prior. It ends in a fault, never in a result.
+  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
+  static constexpr float kNothingDeliveredClass = 5.0f;
 
   void configure(const Parameters& parameters);
   // Every jiffy, dosing or not: whether the scale is at rest, and at what weight.
@@ -65,6 +70,7 @@ class DosingCycle {
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
   void adapt_twostage_preact();
+  bool delivered_nothing() const;
 
   ModelCutoff model_;
   StableWeightDetector stable_;
