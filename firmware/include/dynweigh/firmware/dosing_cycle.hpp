@@ -60,6 +60,9 @@ class DosingCycle {
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
   float model_dead_time_s() const { return model_.dead_time_in_use_s_now(); }
+  float model_stroke_s() const { return model_.stroke_in_use_s_now(); }
+  // What the valve's feedback has shown of its timing; the model's next dose times its close with it.
+  void measured_valve_travel(float mean_s, std::uint32_t strokes) { model_.measured_valve_travel(mean_s, strokes); }
 
  private:
   void open_from_rest();
