@@ -79,6 +79,69 @@ TEST(FaultSupervisor, ValveMovingThenClosedIsHealthy) {
   }
 }
 
+// A valve slower than its datasheet (100 ms dead time, 250 ms stroke against 30 and 80), whose
+// feedback reports `moving` through the stroke: the opening shows its timing, and the close that
+// follows is healthy, not `valve_stuck_open` 80 ms after the command as the datasheet would have it.
+Fault stroke(FaultSupervisor& s, ValveCommand command, ValvePosition from, ValvePosition to, int dead_jiffies,
+             int stroke_jiffies, int jiffies) {
+  FaultSupervisor::Observation o;
+  o.command_in_force = command;
+  for (int i = 1; i <= jiffies; ++i) {
+    o.position = i <= dead_jiffies ? from : i <= dead_jiffies + stroke_jiffies ? ValvePosition::moving : to;
+    const Fault f = s.watch(o);
+    if (f != Fault::none) return f;
+  }
+  return Fault::none;
+}
+
+TEST(FaultSupervisor, AValveSlowerThanItsDatasheetIsJudgedByTheTimingItShows) {
+  FaultSupervisor s = configured();
+  EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 10, 25, 100), Fault::none);
+  EXPECT_EQ(stroke(s, ValveCommand::closed, ValvePosition::open, ValvePosition::closed, 10, 25, 100), Fault::none);
+  using D = ValveTimingMonitor::Direction;
+  EXPECT_FLOAT_EQ(s.valve_timing().slowest_arrival_ms(D::closing), 360.0f);  // seen at the 36th jiffy
+  // The same valve stuck open at the next close: caught once 40 ms past its slowest leave (110 ms).
+  EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 10, 25, 100), Fault::none);
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::closed;
+  o.position = ValvePosition::open;
+  int jiffies = 0;
+  while (s.watch(o) == Fault::none && jiffies < 1000) ++jiffies;
+  EXPECT_EQ(jiffies + 1, 15);
+}
+
+// Limit switches only (no `moving`): the open report lasts until the valve is shut, and a close is
+// stuck open 30 ms + 5 % after the slowest shut the feedback has shown.
+TEST(FaultSupervisor, FeedbackWithEndPositionsOnlyIsJudgedByItsArrival) {
+  FaultSupervisor s = configured();
+  for (int dose = 0; dose < 2; ++dose) {
+    EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 20, 0, 100), Fault::none);
+    EXPECT_EQ(stroke(s, ValveCommand::closed, ValvePosition::open, ValvePosition::closed, 20, 0, 100), Fault::none);
+  }
+  EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 20, 0, 100), Fault::none);
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::closed;
+  o.position = ValvePosition::open;
+  int jiffies = 0;
+  while (s.watch(o) == Fault::none && jiffies < 1000) ++jiffies;
+  EXPECT_EQ(jiffies + 1, 25);  // 210 + 30 + 10.5 ms
+}
+
+// A close that never arrived within the travel limit (the valve stuck, then freed or replaced long
+// after) teaches nothing: the limits stay those of the healthy strokes.
+TEST(FaultSupervisor, AStrokeThatArrivesLongAfterItsLimitTeachesNothing) {
+  FaultSupervisor s = configured();
+  EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 3, 8, 50), Fault::none);
+  EXPECT_EQ(stroke(s, ValveCommand::closed, ValvePosition::open, ValvePosition::closed, 300, 8, 400),
+            Fault::valve_stuck_open);
+  s.reset();  // clearfault
+  FaultSupervisor::Observation o;  // closed, and the feedback at last says so
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(s.watch(o), Fault::none);
+  using D = ValveTimingMonitor::Direction;
+  EXPECT_EQ(s.valve_timing().strokes(D::closing), 0u);
+  EXPECT_FLOAT_EQ(s.valve_timing().slowest_arrival_ms(D::opening), 120.0f);
+}
+
 TEST(FaultSupervisor, ValveOpeningWithoutACommandIsStuckOpenAfterTheTravelLimit) {
   FaultSupervisor s = configured();
   FaultSupervisor::Observation o;  // closed, reporting closed

@@ -354,6 +354,7 @@ void Indicator::command_estimates(const Arguments& args) {
   write_estimate(console_, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
   write_estimate(console_, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
   write_estimate(console_, "dead_used_ms", true, 1000.0f * dosing_.model_dead_time_s(), 1);
+  write_estimate(console_, "stroke_used_ms", true, 1000.0f * dosing_.model_stroke_s(), 1);
   write_estimate(console_, "flow_kg_s", e.measured, e.flow_kg_s, 3);
   write_estimate(console_, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
   write_estimate(console_, "impact_m_s", s.valid, s.impact_speed_m_s, 2);

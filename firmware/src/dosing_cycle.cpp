@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "dynweigh/model/oiml_r61_limits.hpp"
+
 namespace dynweigh::firmware {
 namespace {
 // Dynamic certification: the fit's standard error of W within 1.5 divisions, and five successive
@@ -191,8 +193,9 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (jiffies_ < settle_from_jiffy_) return Outcome::running;
   if (certify(net_weight_g, filtered_weight_g)) {
     result_.time_ms = std::uint32_t(std::lround(elapsed_s * 1000.0f));
-    if (result_.strategy == DosingStrategy::twostage) adapt_twostage_preact();
     phase_ = Phase::idle;
+    if (delivered_nothing()) return Outcome::nothing_delivered;
+    if (result_.strategy == DosingStrategy::twostage) adapt_twostage_preact();
     return Outcome::certified;
   }
   if (float(jiffies_ - result_.cutoff_jiffy) * jiffy_s_ > settle_limit_s_) {
@@ -200,6 +203,12 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     return Outcome::never_stable;
   }
   return Outcome::running;
+}
+
+bool DosingCycle::delivered_nothing() const {
+  const float target = float(result_.target_g);
+  const float limit = kNothingDeliveredClass * model::oiml_r61_x1_limits(target).initial_verification_g;
+  return float(result_.final_g) <= limit;
 }
 
 void DosingCycle::adapt_twostage_preact() {

@@ -22,13 +22,17 @@ void FaultSupervisor::configure(const Parameters& p) {
   const float fall_ms = 1000.0f * std::sqrt(2.0f * p.get(ParameterId::fall_mm) / 1000.0f / kGravity);
   capacity_g_ = p.get(ParameterId::capacity_g);
   stable_band_g_ = p.get(ParameterId::stable_band_g);
-  valve_start_jiffies_ = jiffies_for(dead_ms + kValveStartMarginMs, jiffy_ms) + 1;
-  valve_travel_jiffies_ =
-      jiffies_for(kValveTravelFactor * (dead_ms + stroke_ms) + kValveTravelMarginMs, jiffy_ms);
+  jiffy_ms_ = jiffy_ms;
+  configured_dead_ms_ = dead_ms;
+  configured_shut_ms_ = dead_ms + stroke_ms;
+  fall_ms_ = fall_ms;
+  // New valve parameters may mean a new valve: what the feedback showed of the old one is forgotten.
+  timing_.configure(jiffy_ms);
+  timing_.forget();
+  uncommanded_jiffies_limit_ = jiffies_for(kValveTravelFactor * configured_shut_ms_ + kValveTravelMarginMs, jiffy_ms);
+  set_valve_limits(last_command_, 0.0f);
   no_flow_jiffies_ = jiffies_for(kNoFlowWindowMs, jiffy_ms);
-  rest_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kRestMarginMs, jiffy_ms);
   after_close_window_jiffies_ = jiffies_for(kFlowAfterCloseWindowMs, jiffy_ms);
-  early_leak_jiffies_ = jiffies_for(dead_ms + stroke_ms + fall_ms + kEarlyLeakMarginMs, jiffy_ms);
   early_leak_window_jiffies_ = jiffies_for(kEarlyLeakWindowMs, jiffy_ms);
   platform_hz_ = p.get(ParameterId::platform_hz);
   platform_kg_ = p.get(ParameterId::platform_kg);
@@ -37,6 +41,7 @@ void FaultSupervisor::configure(const Parameters& p) {
 
 void FaultSupervisor::reset() {
   has_good_ = false;
+  timing_.abandon_stroke();
   consecutive_rejected_ = 0;
   last_command_ = ValveCommand::closed;
   command_age_ = 0;
@@ -75,6 +80,7 @@ float FaultSupervisor::screen_sample(float raw_counts, float counts_per_gram, bo
 
 Fault FaultSupervisor::watch(const Observation& o) {
   const Fault valve = watch_valve(o);
+  if (valve != Fault::none) timing_.abandon_stroke();  // a stroke that faulted times no healthy valve
   const Fault flow = watch_flow(o);
   const Fault after = watch_after_close(o);
   return valve != Fault::none ? valve : flow != Fault::none ? flow : after;
@@ -84,7 +90,45 @@ namespace {
 bool p_is_closed(ValvePosition p) { return p == ValvePosition::closed; }
 }  // namespace
 
+// The slower of the datasheet's and the measured time from a command to a shut (or open) valve.
+float FaultSupervisor::valve_shut_ms() const {
+  using D = ValveTimingMonitor::Direction;
+  const float measured = std::fmax(timing_.slowest_arrival_ms(D::opening), timing_.slowest_arrival_ms(D::closing));
+  return std::fmax(configured_shut_ms_, measured);
+}
+
+// How long the command just given may take: to leave the end position, to reach the new one.
+void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
+  using D = ValveTimingMonitor::Direction;
+  const D own = command == ValveCommand::open ? D::opening : D::closing;
+  const D other = own == D::opening ? D::closing : D::opening;
+  float leave_ms = 0.0f, arrival_ms = 0.0f;
+  if (timing_.strokes(own) > 0) {
+    leave_ms = timing_.slowest_leave_ms(own) + kValveLeaveMarginMs;
+    const float slowest = timing_.slowest_arrival_ms(own);
+    arrival_ms = slowest + kValveArrivalMarginMs + kValveArrivalMarginFraction * slowest;
+  } else if (timing_.strokes(other) > 0) {
+    // Never seen this way: for the stroke, which often differs between the ways, the generous
+    // travel limit; the other way's dead time if its feedback showed one (`moving` before the end
+    // position: one actuator, one supply), else the travel limit too.
+    const float other_arrival_ms = timing_.slowest_arrival_ms(other);
+    arrival_ms = kValveTravelFactor * other_arrival_ms + kValveTravelMarginMs;
+    const bool dead_time_seen = timing_.slowest_leave_ms(other) < other_arrival_ms;
+    leave_ms = dead_time_seen ? timing_.slowest_leave_ms(other) + kValveLeaveMarginMs : arrival_ms;
+  } else {
+    // No stroke seen at all (a valve found open, feedback that echoes the command): the datasheet.
+    arrival_ms = kValveTravelFactor * configured_shut_ms_ + kValveTravelMarginMs;
+    leave_ms = configured_dead_ms_ + kValveLeaveMarginMs;
+  }
+  valve_start_jiffies_ = jiffies_for(leave_ms + delay_ms, jiffy_ms_);
+  valve_travel_jiffies_ = jiffies_for(arrival_ms + delay_ms, jiffy_ms_);
+  const float shut_ms = valve_shut_ms() + delay_ms;
+  rest_jiffies_ = jiffies_for(shut_ms + fall_ms_ + kRestMarginMs, jiffy_ms_);
+  early_leak_jiffies_ = jiffies_for(shut_ms + fall_ms_ + kEarlyLeakMarginMs, jiffy_ms_);
+}
+
 Fault FaultSupervisor::watch_valve(const Observation& o) {
+  timing_.observe(o.command_in_force, o.command_delay_ms, o.position);
   if (o.command_in_force != last_command_) {
     closed_by_dose_ = o.command_in_force == ValveCommand::closed && o.dose_running;
     last_command_ = o.command_in_force;
@@ -92,6 +136,7 @@ Fault FaultSupervisor::watch_valve(const Observation& o) {
     open_reference_g_ = o.filtered_g;
     reached_closed_ = false;
     uncommanded_jiffies_ = 0;
+    set_valve_limits(o.command_in_force, o.command_delay_ms);
   }
   if (command_age_ < 0xFFFFFFFFu) ++command_age_;
   // Feedback that reads closed while the weight rises is wrong or absent (an open-loop replay, a
@@ -102,6 +147,7 @@ Fault FaultSupervisor::watch_valve(const Observation& o) {
   const bool closed_too_long = p_is_closed(o.position) && command_age_ >= rest_jiffies_ && !flow_seen;
   const bool started = command_age_ >= valve_start_jiffies_;
   const bool travelled = command_age_ >= valve_travel_jiffies_;
+  if (travelled) timing_.abandon_stroke();
   const ValvePosition p = o.position;
   switch (o.command_in_force) {
     case ValveCommand::closed:
@@ -117,7 +163,7 @@ Fault FaultSupervisor::watch_valve(const Observation& o) {
       }
       // Closed, then reporting movement with no command. Given the travel limit, since the feedback
       // can arrive ahead of a command given in the same jiffy (open-loop replays of recorded valves).
-      if (++uncommanded_jiffies_ >= valve_travel_jiffies_) return Fault::valve_stuck_open;
+      if (++uncommanded_jiffies_ >= uncommanded_jiffies_limit_) return Fault::valve_stuck_open;
       break;
     case ValveCommand::open:
       if (closed_too_long) return Fault::valve_stuck_closed;

@@ -114,6 +114,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   Outputs out;
   out.valve = valve_;
   out.valve_delay_100us = dosing_.phase() == DosingCycle::Phase::idle ? 0 : dosing_.valve_delay_100us();
+  valve_delay_100us_ = out.valve_delay_100us;
   out.answered_counter = inputs.load_cell.counter;
   out.state = fault_ != Fault::none ? IndicatorState::fault
               : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? IndicatorState::dosing
@@ -202,6 +203,7 @@ void Indicator::supervise(const Inputs& inputs) {
   if (inputs.load_cell.link != LinkStatus::ok) return;
   FaultSupervisor::Observation o;
   o.command_in_force = valve_;
+  o.command_delay_ms = float(valve_delay_100us_) / 10.0f;
   o.position = inputs.valve_position;
   o.dose_flowing = dosing_.phase() == DosingCycle::Phase::dosing;
   o.dose_running = dosing_.phase() != DosingCycle::Phase::idle;
@@ -211,6 +213,10 @@ void Indicator::supervise(const Inputs& inputs) {
   o.filtered_g = filtered_weight_g();
   const Fault found = supervisor_.watch(o);
   if (found != Fault::none) raise(found);
+  const ValveTimingMonitor& timing = supervisor_.valve_timing();
+  const auto seen = timing.strokes(ValveTimingMonitor::closing) > 0 ? ValveTimingMonitor::closing
+                                                                     : ValveTimingMonitor::opening;
+  dosing_.measured_valve_travel(timing.mean_arrival_ms(seen) / 1000.0f, timing.strokes(seen));
 }
 
 void Indicator::advance_dose() {
@@ -226,6 +232,9 @@ void Indicator::advance_dose() {
       return;
     case DosingCycle::Outcome::never_stable:
       raise(Fault::never_stable);
+      return;
+    case DosingCycle::Outcome::nothing_delivered:
+      raise(Fault::no_flow);
       return;
     case DosingCycle::Outcome::certified:
       break;

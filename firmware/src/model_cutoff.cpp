@@ -40,6 +40,10 @@ constexpr std::uint32_t kDeadTimeMemory = 8;
 constexpr std::uint32_t kDeadTimeMinDoses = 2;
 template <typename Scalar>
 constexpr Scalar kDeadTimeDeadbandS = Scalar(0.006);
+// The stroke from the feedback: the time to the end position, less the dead time, is used once it is
+// off the datasheet by more than a jiffy of the feedback's resolution and the dead time's error.
+template <typename Scalar>
+constexpr Scalar kStrokeDeadbandS = Scalar(0.015);
 // The first impact's sample holds a part-jiffy of landing: a few samples more tell S from k L.
 constexpr std::uint32_t kObserverSettleJiffies = 3;
 }  // namespace
@@ -74,7 +78,8 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   const Scalar half_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(0.5));
   half_flow_ratio_ = full_rate > Scalar(0) ? half_rate / full_rate : Scalar(0.5);
   prior_rate_kg_s_ = model::beverloo_discharge_kg_s(material, g, bore_m);
-  set_valve_timing(dead_s);
+  measured_travel_strokes_ = 0;
+  set_valve_timing(dead_s, stroke_s);
   settle_jiffies_ = std::uint32_t(p.get(ParameterId::impact_settle_ms) / p.get(ParameterId::jiffy_ms));
   fit_.set_window(std::size_t(p.get(ParameterId::model_window_ms) / p.get(ParameterId::jiffy_ms)));
   // 20 d, or what the prior flow brings in two jiffies if that is more: a clear sign of flow.
@@ -86,8 +91,6 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   // The plant's and a real platform's load cell carry the damper's force too.
   opening_ = model::OpeningEstimator<Scalar>(
       model::PlatformResponse<Scalar>{platform_hz_, kPlatformDamping<Scalar>, platform_hz_ > Scalar(0)});
-  // The first grains land a stroke before the whole stream does.
-  established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
   const Scalar prior_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
   auto tuning = observer_.tuning();
   tuning.rate_walk_g = kRateWalkPerJiffy<Scalar> * prior_per_jiffy;
@@ -100,10 +103,12 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
 // to shut, and the flow missing at the opening. From the datasheet's dead time, or the one the scale
 // has measured over the last doses once that is clearly different.
 template <typename Scalar>
-void BasicModelCutoff<Scalar>::set_valve_timing(Scalar dead_s) {
+void BasicModelCutoff<Scalar>::set_valve_timing(Scalar dead_s, Scalar stroke_s) {
   const Scalar g = kGravity<Scalar>;
-  const Scalar stroke_s = stroke_s_;
   effective_dead_s_ = dead_s;
+  effective_stroke_s_ = stroke_s;
+  // The first grains land a stroke before the whole stream does.
+  established_jiffies_ = std::uint32_t(std::ceil(stroke_s / jiffy_s_)) + kObserverSettleJiffies;
   full_closing_flow_s_ = model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s);
   const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g, bore_m_, Scalar(1));
   const Scalar half_rate = full_rate * half_flow_ratio_;
@@ -136,9 +141,21 @@ Scalar BasicModelCutoff<Scalar>::dead_time_in_use_s() const {
   return dead_time_doses_ >= kDeadTimeMinDoses && clearly_off ? measured_dead_s_ : configured_dead_s_;
 }
 
+// The stroke as the feedback timed it: the time to the end position less the dead time. Feedback
+// that reaches the end position before the valve can have moved (one that echoes the command) times
+// nothing.
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::stroke_in_use_s(Scalar dead_s) const {
+  if (measured_travel_strokes_ == 0) return stroke_s_;
+  const Scalar measured = measured_travel_s_ - dead_s;
+  if (!(measured > Scalar(0))) return stroke_s_;
+  return std::fabs(measured - stroke_s_) > kStrokeDeadbandS<Scalar> ? measured : stroke_s_;
+}
+
 template <typename Scalar>
 void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
-  set_valve_timing(dead_time_in_use_s());
+  const Scalar dead_s = dead_time_in_use_s();
+  set_valve_timing(dead_s, stroke_in_use_s(dead_s));
   start_weight_g_ = start_weight_g;
   jiffies_ = 0;
   impacted_ = false;

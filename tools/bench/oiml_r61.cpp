@@ -2,18 +2,13 @@
 
 #include <cmath>
 
+#include "dynweigh/model/oiml_r61_limits.hpp"
+
 namespace dynweigh::tools {
 
 OimlLimits oiml_x1_limits(double m) {
-  if (m <= 50.0) return {0.063 * m, 0.09 * m};
-  if (m <= 100.0) return {3.15, 4.5};
-  if (m <= 200.0) return {0.0315 * m, 0.045 * m};
-  if (m <= 300.0) return {6.3, 9.0};
-  if (m <= 500.0) return {0.021 * m, 0.03 * m};
-  if (m <= 1000.0) return {10.5, 15.0};
-  if (m <= 10000.0) return {0.0105 * m, 0.015 * m};
-  if (m <= 15000.0) return {105.0, 150.0};
-  return {0.007 * m, 0.01 * m};
+  const model::OimlR61Limits<double> x1 = model::oiml_r61_x1_limits(m);
+  return {x1.initial_verification_g, x1.in_service_g};
 }
 
 double best_oiml_class(double fill_g, double max_deviation_g, double bias_g) {

@@ -27,7 +27,12 @@ struct DoseResult {
 class DosingCycle {
  public:
   enum class Phase : std::uint8_t { idle, dosing, settling };
-  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable };
+  // `nothing_delivered`: whatever the strategy, a dose whose certified fill is no more than its own
+  // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) delivered
+  // nothing a filling line can use: a silo run empty, a valve that let nothing through, while a
+  // strategy closed on its prior. It ends in a fault, never in a result.
+  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
+  static constexpr float kNothingDeliveredClass = 5.0f;
 
   void configure(const Parameters& parameters);
   // Every jiffy, dosing or not: whether the scale is at rest, and at what weight.
@@ -55,6 +60,9 @@ class DosingCycle {
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
   float model_dead_time_s() const { return model_.dead_time_in_use_s_now(); }
+  float model_stroke_s() const { return model_.stroke_in_use_s_now(); }
+  // What the valve's feedback has shown of its timing; the model's next dose times its close with it.
+  void measured_valve_travel(float mean_s, std::uint32_t strokes) { model_.measured_valve_travel(mean_s, strokes); }
 
  private:
   void open_from_rest();
@@ -65,6 +73,7 @@ class DosingCycle {
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
   void adapt_twostage_preact();
+  bool delivered_nothing() const;
 
   ModelCutoff model_;
   StableWeightDetector stable_;

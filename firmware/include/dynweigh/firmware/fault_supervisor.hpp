@@ -9,13 +9,22 @@
 //   Such a sample is rejected and the last good value held. While a dose runs, kOutlierFaultCount
 //   in a row raise `sample_jump`; otherwise two consistent samples confirm a new level (a load
 //   placed on the scale), taken one jiffy late.
-// - Valve feedback against the command: closing, after the dead time plus margin the valve must
-//   have left open, and within a generous multiple of dead time plus stroke it must report closed:
-//   else `valve_stuck_open` (within 100 ms for the default valve). Opening, a valve still reporting
-//   closed once the stream had time to land (dead time, stroke, fall, margin) while the weight did
-//   not rise, or stuck mid-stroke past the travel limit: `valve_stuck_closed`. Feedback reading
-//   closed while the weight rises is taken as missing feedback (open-loop replays), not a fault.
-//   A valve that closed and then reports moving with no command is stuck open after the travel limit.
+// - Valve feedback against the command, judged by the timing this valve's feedback has shown
+//   (valve_timing.hpp: for opening and closing apart, the slowest of the last 8 full strokes, from
+//   the command to the feedback's leaving its end position and to its reporting the new one).
+//   Closing (or going to half) from open, a valve still reporting open kValveLeaveMarginMs after the
+//   slowest leave seen, or not closed kValveArrivalMarginMs plus kValveArrivalMarginFraction after
+//   the slowest arrival seen: `valve_stuck_open`. That is within 100 ms of the moment this valve,
+//   healthy, would have shut. A direction not yet seen is judged by the other direction's leave (if
+//   its feedback showed `moving`), and by the travel limit for the arrival: kValveTravelFactor x the
+//   other direction's arrival + kValveTravelMarginMs. With no stroke seen at all (a valve found
+//   open, feedback that echoes the command) the datasheet's: its dead time + kValveLeaveMarginMs to
+//   leave, and the travel limit on its dead time plus stroke. Opening, a valve still reporting
+//   closed once the stream had time to land (the slower of the configured and the measured timing,
+//   the fall, a second) while the weight did not rise, or stuck mid-stroke past the arrival limit:
+//   `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as missing
+//   feedback (open-loop replays), not a fault. A valve that closed and then reports moving with no
+//   command is stuck open after the travel limit.
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
 //   (at the start or later: a silo run empty).
 // - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
@@ -33,6 +42,7 @@
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/period_mean.hpp"
+#include "dynweigh/firmware/valve_timing.hpp"
 
 namespace dynweigh::firmware {
 
@@ -40,7 +50,9 @@ class FaultSupervisor {
  public:
   static constexpr float kOutlierFractionOfCapacity = 0.05f;
   static constexpr std::uint32_t kOutlierFaultCount = 3;
-  static constexpr float kValveStartMarginMs = 40.0f;    // dead-time jitter, command delay in the jiffy
+  static constexpr float kValveLeaveMarginMs = 40.0f;    // dead-time jitter, a feedback frame late
+  static constexpr float kValveArrivalMarginMs = 30.0f;
+  static constexpr float kValveArrivalMarginFraction = 0.05f;
   static constexpr float kValveTravelFactor = 3.0f;      // x (dead time + stroke): a slow valve passes
   static constexpr float kValveTravelMarginMs = 100.0f;
   static constexpr float kNoFlowWindowMs = 2000.0f;
@@ -64,10 +76,13 @@ class FaultSupervisor {
   // `strict` while a dose runs; `fault` is set to sample_jump when the rejections persist.
   float screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault);
   std::uint32_t rejected_samples() const { return rejected_total_; }
+  // What the valve's feedback has shown of its timing (the model cutoff times its close with it).
+  const ValveTimingMonitor& valve_timing() const { return timing_; }
 
   // What the supervisor needs to know about one jiffy, after the sample was processed.
   struct Observation {
     ValveCommand command_in_force = ValveCommand::closed;  // the command sent last jiffy
+    float command_delay_ms = 0.0f;  // how far into its jiffy that command acted (the delay byte)
     ValvePosition position = ValvePosition::closed;        // the valve's feedback now
     bool dose_flowing = false;    // a dose is in its dosing phase
     bool dose_running = false;    // a dose is dosing or settling
@@ -81,6 +96,8 @@ class FaultSupervisor {
 
  private:
   Fault watch_valve(const Observation& o);
+  void set_valve_limits(ValveCommand command, float delay_ms);
+  float valve_shut_ms() const;
   Fault watch_flow(const Observation& o);
   bool watch_early_leak(float filtered_g, float rise_g);
   Fault watch_after_close(const Observation& o);
@@ -88,8 +105,13 @@ class FaultSupervisor {
   // Limits.
   float capacity_g_ = 50000.0f;
   float stable_band_g_ = 1.0f;
-  std::uint32_t valve_start_jiffies_ = 8;
-  std::uint32_t valve_travel_jiffies_ = 43;
+  float jiffy_ms_ = 10.0f;
+  float configured_dead_ms_ = 30.0f;   // the datasheet's
+  float configured_shut_ms_ = 110.0f;  // the datasheet's dead time and stroke
+  float fall_ms_ = 495.0f;
+  std::uint32_t valve_start_jiffies_ = 43;   // for the command in force: leave its end position by
+  std::uint32_t valve_travel_jiffies_ = 43;  // ... and reach the new one by
+  std::uint32_t uncommanded_jiffies_limit_ = 43;
   std::uint32_t no_flow_jiffies_ = 200;
   std::uint32_t rest_jiffies_ = 111;
   std::uint32_t after_close_window_jiffies_ = 200;
@@ -104,6 +126,7 @@ class FaultSupervisor {
   std::uint32_t rejected_total_ = 0;
 
   // Valve.
+  ValveTimingMonitor timing_;
   ValveCommand last_command_ = ValveCommand::closed;
   std::uint32_t command_age_ = 0;  // jiffies since the command in force was first seen
   bool closed_by_dose_ = false;    // the close in force ended a dose's flow

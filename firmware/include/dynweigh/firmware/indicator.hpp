@@ -166,6 +166,7 @@ class Indicator {
   std::size_t print_index_ = 0;
   ValveCommand manual_valve_ = ValveCommand::closed;
   ValveCommand valve_ = ValveCommand::closed;
+  std::uint8_t valve_delay_100us_ = 0;  // how far into its jiffy valve_ acts
 };
 
 }  // namespace dynweigh::firmware

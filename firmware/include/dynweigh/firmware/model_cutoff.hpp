@@ -61,6 +61,14 @@ class BasicModelCutoff {
   const DoseEstimates<Scalar>& estimates() const { return estimates_; }
   // The valve dead time the prediction uses: the datasheet's, or the measured one once it differs.
   Scalar dead_time_in_use_s_now() const { return effective_dead_s_; }
+  // What the valve's feedback showed: the mean time from the command to the end position (closing
+  // if seen, else opening) over `strokes` full strokes. The next dose's stroke is that less the dead
+  // time in use, once it is clearly off the datasheet's.
+  void measured_valve_travel(Scalar mean_s, std::uint32_t strokes) {
+    measured_travel_s_ = mean_s;
+    measured_travel_strokes_ = strokes;
+  }
+  Scalar stroke_in_use_s_now() const { return effective_stroke_s_; }
 
  private:
   Scalar prior_prediction_g() const;
@@ -70,7 +78,8 @@ class BasicModelCutoff {
   void average_rate();
   void estimate_opening(Scalar net_weight_g);
   Scalar first_fall_height_m() const;
-  void set_valve_timing(Scalar dead_s);
+  void set_valve_timing(Scalar dead_s, Scalar stroke_s);
+  Scalar stroke_in_use_s(Scalar dead_s) const;
   void learn_dead_time(Scalar measured_s);
   Scalar dead_time_in_use_s() const;
 
@@ -103,7 +112,10 @@ class BasicModelCutoff {
   DoseEstimates<Scalar> estimates_{};
   model::BeverlooMaterial<Scalar> material_{};
   Scalar bore_m_ = Scalar(0);
-  Scalar stroke_s_ = Scalar(0);
+  Scalar stroke_s_ = Scalar(0);          // the datasheet's
+  Scalar effective_stroke_s_ = Scalar(0);  // the one this dose's timing uses
+  Scalar measured_travel_s_ = Scalar(0);
+  std::uint32_t measured_travel_strokes_ = 0;
   Scalar configured_dead_s_ = Scalar(0);
   Scalar measured_dead_s_ = Scalar(0);   // running mean over the last doses' first impacts
   Scalar effective_dead_s_ = Scalar(0);  // the one this dose's timing uses

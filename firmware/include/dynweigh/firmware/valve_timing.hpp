@@ -1,0 +1,65 @@
+#pragma once
+// The valve's timing as its feedback shows it. For every full stroke (closed to open, open to
+// closed) the time from the command to the feedback's leaving the old end position, and to its
+// reporting the new one, for opening and closing apart (a pneumatic valve fills and exhausts at
+// different speeds). A valve whose feedback reports `moving` leaves its end position at its dead
+// time; one whose feedback reports end positions only (limit switches) leaves when it arrives.
+//
+// The feedback is read once a jiffy: an event seen at the n-th jiffy after the command happened
+// within the jiffy before, less the part of a jiffy by which the command was delayed (the valve
+// module's delay byte). The slowest bounds (n jiffies less the delay) are what the fault supervisor
+// allows; the mean of the jiffies' midpoints is what the model cutoff times the close with. A stroke
+// that ends in the jiffy of its command times nothing: the feedback echoes the command, or the valve
+// was there already.
+#include <cstdint>
+
+#include "dynweigh/firmware/io.hpp"
+
+namespace dynweigh::firmware {
+
+class ValveTimingMonitor {
+ public:
+  static constexpr std::uint32_t kMemory = 8;  // strokes remembered: a valve that ages is followed
+
+  void configure(float jiffy_ms) { jiffy_ms_ = jiffy_ms; }
+  // A new valve, or none: forget every stroke.
+  void forget();
+  // Each jiffy: the command given last jiffy, how far into its jiffy it acted, the feedback now.
+  void observe(ValveCommand command_in_force, float command_delay_ms, ValvePosition position);
+  // The stroke under way took longer than a healthy one may: whenever it ends (a valve freed, the
+  // plant replaced) it teaches nothing.
+  void abandon_stroke() { tracking_ = false; }
+
+  enum Direction : std::uint8_t { opening = 0, closing = 1 };
+  std::uint32_t strokes(Direction d) const { return count_[d]; }
+  // Over the remembered strokes of one direction, ms from the command's acting: the latest the
+  // feedback left its end position, the latest it reported the new one, and the mean time to the new
+  // one. 0 before the first.
+  float slowest_leave_ms(Direction d) const;
+  float slowest_arrival_ms(Direction d) const;
+  float mean_arrival_ms(Direction d) const;
+
+ private:
+  struct Stroke {
+    float leave_bound_ms;
+    float arrival_bound_ms;
+    float arrival_mean_ms;
+  };
+  void start_stroke(ValveCommand command, float command_delay_ms);
+  void remember(Direction d);
+
+  float jiffy_ms_ = 10.0f;
+  ValveCommand last_command_ = ValveCommand::closed;
+  ValvePosition end_position_ = ValvePosition::closed;  // the last end position the feedback reported
+  bool tracking_ = false;  // a full stroke is under way
+  ValvePosition from_ = ValvePosition::closed;
+  ValvePosition to_ = ValvePosition::open;
+  float delay_ms_ = 0.0f;
+  std::uint32_t age_ = 0;  // jiffies since the command
+  std::uint32_t leave_age_ = 0;
+  Stroke strokes_[2][kMemory] = {};
+  std::uint32_t next_[2] = {};
+  std::uint32_t count_[2] = {};
+};
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,81 @@
+#include "dynweigh/firmware/valve_timing.hpp"
+
+namespace dynweigh::firmware {
+namespace {
+bool is_end_position(ValvePosition p) { return p == ValvePosition::closed || p == ValvePosition::open; }
+}  // namespace
+
+void ValveTimingMonitor::forget() {
+  tracking_ = false;
+  for (int d = 0; d < 2; ++d) next_[d] = count_[d] = 0;
+}
+
+void ValveTimingMonitor::start_stroke(ValveCommand command, float command_delay_ms) {
+  // Only a full stroke from where the feedback last stood still: a half stroke, or a reversal
+  // half-way, takes less time and would teach a limit too tight.
+  tracking_ = false;
+  if (command == ValveCommand::open && end_position_ == ValvePosition::closed) {
+    from_ = ValvePosition::closed;
+    to_ = ValvePosition::open;
+    tracking_ = true;
+  } else if (command == ValveCommand::closed && end_position_ == ValvePosition::open) {
+    from_ = ValvePosition::open;
+    to_ = ValvePosition::closed;
+    tracking_ = true;
+  }
+  delay_ms_ = command_delay_ms;
+  age_ = 0;
+  leave_age_ = 0;
+}
+
+void ValveTimingMonitor::observe(ValveCommand command, float command_delay_ms, ValvePosition position) {
+  if (command != last_command_) {
+    last_command_ = command;
+    start_stroke(command, command_delay_ms);
+  }
+  if (is_end_position(position)) end_position_ = position;
+  if (!tracking_) return;
+  ++age_;
+  if (leave_age_ == 0 && position != from_) leave_age_ = age_;
+  if (position == to_) {
+    // Within the jiffy of the command: feedback that echoes it, or a valve that was there already.
+    if (age_ > 1) remember(to_ == ValvePosition::open ? opening : closing);
+    tracking_ = false;
+  } else if (position != from_ && position != ValvePosition::moving) {
+    tracking_ = false;  // somewhere else (half): not this stroke
+  }
+}
+
+void ValveTimingMonitor::remember(Direction d) {
+  Stroke& s = strokes_[d][next_[d]];
+  s.leave_bound_ms = float(leave_age_) * jiffy_ms_ - delay_ms_;
+  s.arrival_bound_ms = float(age_) * jiffy_ms_ - delay_ms_;
+  s.arrival_mean_ms = (float(age_) - 0.5f) * jiffy_ms_ - delay_ms_;
+  next_[d] = (next_[d] + 1) % kMemory;
+  if (count_[d] < kMemory) ++count_[d];
+}
+
+float ValveTimingMonitor::slowest_leave_ms(Direction d) const {
+  float slowest = 0.0f;
+  for (std::uint32_t i = 0; i < count_[d]; ++i) {
+    slowest = strokes_[d][i].leave_bound_ms > slowest ? strokes_[d][i].leave_bound_ms : slowest;
+  }
+  return slowest;
+}
+
+float ValveTimingMonitor::slowest_arrival_ms(Direction d) const {
+  float slowest = 0.0f;
+  for (std::uint32_t i = 0; i < count_[d]; ++i) {
+    slowest = strokes_[d][i].arrival_bound_ms > slowest ? strokes_[d][i].arrival_bound_ms : slowest;
+  }
+  return slowest;
+}
+
+float ValveTimingMonitor::mean_arrival_ms(Direction d) const {
+  if (count_[d] == 0) return 0.0f;
+  float sum = 0.0f;
+  for (std::uint32_t i = 0; i < count_[d]; ++i) sum += strokes_[d][i].arrival_mean_ms;
+  return sum / float(count_[d]);
+}
+
+}  // namespace dynweigh::firmware
