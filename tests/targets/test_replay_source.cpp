@@ -1,4 +1,5 @@
-// `dynweigh plant --replay FILE`: a readtestdata capture or a CSV with a raw column.
+// `dynweigh plant --replay FILE`: a readtestdata capture, a CSV with a raw column, or an inputs
+// recording; any other binary file is refused.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -8,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "dynweigh/hal/host/inputs_recording.hpp"
 #include "replay_source.hpp"
 
 namespace dynweigh::tools {
@@ -46,6 +48,33 @@ TEST(ReplaySource, RefusesFilesWithoutSamples) {
   EXPECT_THROW(load_replay_samples("/nonexistent/file"), std::runtime_error);
   std::remove(no_raw.c_str());
   std::remove(empty.c_str());
+}
+
+TEST(ReplaySource, ReadsEachJiffysSampleOfAnInputsRecording) {
+  const std::string path = ::testing::TempDir() + "inputs" + std::to_string(::getpid()) + ".rec";
+  {
+    hal::host::InputsRecordingWriter writer(path, firmware::PersistentSettings{}, "test");
+    for (std::uint32_t k = 0; k < 250; ++k) {
+      hal::host::RecordedJiffy jiffy;
+      jiffy.jiffy = k;
+      jiffy.load_cell.raw_counts = std::int32_t(12000 + 7 * k) * (k % 2 ? -1 : 1);
+      jiffy.console_rx = k == 3 ? "dose 100\n1 2 3 4\n" : "";  // text inside must not be read as samples
+      writer.write(jiffy);
+    }
+  }
+  const auto samples = load_replay_samples(path);
+  ASSERT_EQ(samples.size(), 250u);
+  for (std::uint32_t k = 0; k < 250; ++k) EXPECT_EQ(samples[k], std::int32_t(12000 + 7 * k) * (k % 2 ? -1 : 1));
+  std::remove(path.c_str());
+}
+
+TEST(ReplaySource, RefusesOtherBinaryFiles) {
+  const auto binary = write_temp("binary", std::string("\x7f" "ELF\x02\x01\x01\n1 2 3 4\n0 5 6 0\n"));
+  EXPECT_THROW(load_replay_samples(binary), std::runtime_error);
+  const auto nul = write_temp("nul", std::string("0 12000 0 0\n\0\0\0\n", 16));
+  EXPECT_THROW(load_replay_samples(nul), std::runtime_error);
+  std::remove(binary.c_str());
+  std::remove(nul.c_str());
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "bench_commands.hpp"
 #include "fill_series.hpp"
 #include "grid_runner.hpp"
+#include "output_file.hpp"
 #include "progress_bar.hpp"
 #include "series_row.hpp"
 #include "step_benchmark.hpp"
@@ -107,22 +108,34 @@ void write_png(const std::string& path, const std::vector<SeriesResult>& results
                                                     std::to_string(std::max(r.max_deviation_g, 0.1)) + " " +
                                                     scenarios[r.spec.scenario].name + "\n";
   }
-  std::FILE* gp = popen("gnuplot", "w");
-  if (!gp) throw std::runtime_error("cannot start gnuplot");
-  std::fprintf(gp,
-               "set terminal pngcairo size 1100,700 font 'Sans,11'\nset output '%s'\n"
-               "set title 'dynweigh bench: run time against error (every series)'\n"
-               "set xlabel 'fill time / physical minimum'\nset ylabel 'max deviation of a fill from the mean (g)'\n"
-               "set logscale y\nset grid\nset key top right box\nplot ",
-               path.c_str());
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1100,700 font 'Sans,11'\nset output '" << path << "'\n"
+     << "set title 'dynweigh bench: run time against error (every series)'\n"
+     << "set xlabel 'fill time / physical minimum'\nset ylabel 'max deviation of a fill from the mean (g)'\n"
+     << "set logscale y\nset grid\nset key top right box\nplot ";
   bool first = true;
   for (const auto& entry : points) {
-    std::fprintf(gp, "%s'-' using 1:2 with points pt 7 ps 1.2 title '%s'", first ? "" : ", ", entry.first.c_str());
+    gp << (first ? "" : ", ") << "'-' using 1:2 with points pt 7 ps 1.2 title '" << entry.first << "'";
     first = false;
   }
-  std::fprintf(gp, "\n");
-  for (const auto& entry : points) std::fprintf(gp, "%se\n", entry.second.c_str());
-  if (pclose(gp) != 0) throw std::runtime_error("gnuplot failed drawing " + path);
+  gp << "\n";
+  for (const auto& entry : points) gp << entry.second << "e\n";
+  run_gnuplot(gp.str(), path);
+}
+
+// The files the run will write, checked (and created) before the grid runs for minutes or hours.
+// Adds those the check created to `created`, for removal if the run fails.
+void check_outputs(const std::string& csv, const std::string& png, const std::string& journal,
+                   std::vector<std::string>& created) {
+  if (!png.empty()) {
+    require_extension(png, "png", "--png");
+    require_gnuplot();
+  }
+  for (const std::string* path : {&csv, &png}) {
+    if (!path->empty() && check_writable(*path)) created.push_back(*path);
+  }
+  // The journal is rewritten through JOURNAL.tmp: its folder must take a new file.
+  if (!journal.empty() && check_writable(journal + ".tmp")) std::remove((journal + ".tmp").c_str());
 }
 
 double parse_target(const std::string& text, const Scenario& scenario) {
@@ -211,7 +224,9 @@ int run_bench_command(int argc, char** argv) {
     return 2;
   }
   const grid::ParallelSession session(true);
+  std::vector<std::string> created;
   try {
+    if (session.writer()) check_outputs(csv, png, journal, created);
     std::vector<Scenario> scenarios;
     for (const auto& name : scene_list.empty() ? default_scenarios() : split(scene_list)) {
       scenarios.push_back(make_scenario(name));
@@ -251,6 +266,7 @@ int run_bench_command(int argc, char** argv) {
     if (!png.empty()) write_png(png, results, scenarios);
     return 0;
   } catch (const std::exception& e) {
+    for (const std::string& path : created) std::remove(path.c_str());  // no empty output left behind
     std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
     if (session.distributed()) session.abort(1);  // the other ranks would wait for jobs forever
     return 1;

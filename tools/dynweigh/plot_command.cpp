@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "finite_range.hpp"
+#include "output_file.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -339,14 +341,6 @@ std::string bench_script(const Table& t, const std::string& output, std::map<std
   return gp.str();
 }
 
-void run_gnuplot(const std::string& script, const std::string& output) {
-  std::FILE* gnuplot = popen("gnuplot 2>&1", "w");
-  if (!gnuplot) throw std::runtime_error("cannot start gnuplot (apt-get install gnuplot-nox)");
-  std::fwrite(script.data(), 1, script.size(), gnuplot);
-  const int status = pclose(gnuplot);
-  if (status != 0) throw std::runtime_error("gnuplot failed drawing " + output);
-}
-
 }  // namespace
 
 int run_plot_command(int argc, char** argv) {
@@ -359,8 +353,8 @@ int run_plot_command(int argc, char** argv) {
   app.add_option("csv", input, "the CSV")->required();
   app.add_option("-o,--output", output, "OUT.png or OUT.svg")->required();
   app.add_option("--replay", replay, "cycle plots: draw the prediction from this replay CSV of the same run");
-  app.add_option("--target", target_g, "replay plots: draw the dose's target, grams");
-  app.add_option("--g", g, "gravity used to draw masses as forces, m/s^2")->capture_default_str();
+  app.add_option("--target", target_g, "replay plots: draw the dose's target, grams")->check(FiniteRange(0.0, 1e9));
+  app.add_option("--g", g, "gravity used to draw masses as forces, m/s^2")->capture_default_str()->check(FiniteRange(0.1, 100.0));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -369,8 +363,10 @@ int run_plot_command(int argc, char** argv) {
     std::fprintf(stderr, "dynweigh plot: %s\n", e.what());
     return 2;
   }
+  bool created = false;
   try {
     terminal_for(output);
+    created = check_writable(output);
     const Table table = read_table(input);
     const auto has_all = [&table](std::initializer_list<const char*> names) {
       return std::all_of(names.begin(), names.end(), [&table](const char* n) { return table.has(n); });
@@ -398,6 +394,7 @@ int run_plot_command(int argc, char** argv) {
     }
     throw std::runtime_error(input + ": not a cycle, replay or bench CSV (header: " + table.names.front() + ",...)");
   } catch (const std::exception& e) {
+    if (created) std::remove(output.c_str());  // no empty picture left behind
     std::fprintf(stderr, "dynweigh plot: %s\n", e.what());
     return 1;
   }

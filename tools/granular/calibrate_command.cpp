@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "command_line_errors.hpp"
+#include "output_file.hpp"
 #include "dem_job_row.hpp"
 #include "dynweigh/granular/dem_calibration.hpp"
 #include "dynweigh/granular/soc_fluid_calibration.hpp"
@@ -264,6 +265,9 @@ int run_calibrate_command(int argc, char** argv) {
   try {
     const std::optional<sim::Scene> base = sim::scene_by_name(o.scene);
     if (!base) return fail("calibrate", "unknown scene '" + o.scene + "' (see dynweigh sim --list)");
+    for (const std::string* path : {&o.out, &o.csv}) {
+      if (!path->empty()) check_writable(*path);  // before minutes of DEM, not after
+    }
     if (o.from == "dem") return calibrate_dem(o, *base);
     if (o.from == "soc") return calibrate_soc(o, *base);
     return calibrate_fluid(o, *base);

@@ -25,6 +25,7 @@
 #include "dynweigh/hal/linux/can_transport.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "finite_range.hpp"
 #include "plant_commands.hpp"
 #include "replay_source.hpp"
 
@@ -313,12 +314,16 @@ int run_plant_command(int argc, char** argv) {
   app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
   app.add_flag("--realtime", options.realtime, "a sample every 10 ms of wall time; the indicator is not waited for");
   app.add_option("--replay", options.replay,
-                 "play recorded raw samples instead of the simulator: a readtestdata capture or a CSV with a raw column");
+                 "play recorded raw samples instead of the simulator: a readtestdata capture, a CSV with a raw column "
+                 "or a dynweigh-fw --record inputs recording");
   app.add_option("--jiffies", options.jiffies, "stop after this many samples (0: until the indicator stops)")
       ->capture_default_str();
-  app.add_option("--wait", options.wait_s, "seconds to wait for the indicator to be heard")->capture_default_str();
+  app.add_option("--wait", options.wait_s, "seconds to wait for the indicator to be heard")
+      ->capture_default_str()
+      ->check(tools::FiniteRange(0.0, 86400.0));
   app.add_option("--timeout", options.timeout_s, "lockstep: seconds to wait for an answer before giving up")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(tools::FiniteRange(0.01, 86400.0));
   app.add_flag("--verbose", options.verbose, "log protocol events on stderr");
   try {
     app.parse(argc, argv);

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "finite_range.hpp"
 #include "progress_bar.hpp"
 #include "replay_commands.hpp"
 #include "replay_run.hpp"
@@ -37,8 +40,8 @@ struct Arguments {
   std::string scene = "default";
   std::uint64_t seed = 1;
   std::string nvm;
-  double zero_counts = NAN;
-  double counts_per_gram = NAN;
+  std::optional<double> zero_counts;
+  std::optional<double> counts_per_gram;
   bool quiet = false;
 };
 
@@ -73,14 +76,13 @@ firmware::PersistentSettings raw_replay_settings(const Arguments& a) {
     const sim::Plant plant(*scene, a.seed);
     settings = hal::host::factory_settings(plant);
   }
-  if (!std::isnan(a.zero_counts)) {
-    settings.calibration.zero_counts = std::int32_t(std::floor(a.zero_counts));
-    settings.calibration.zero_fraction = float(a.zero_counts - std::floor(a.zero_counts));
+  if (a.zero_counts) {
+    settings.calibration.zero_counts = std::int32_t(std::floor(*a.zero_counts));
+    settings.calibration.zero_fraction = float(*a.zero_counts - std::floor(*a.zero_counts));
     settings.calibration.zero_set = true;
   }
-  if (!std::isnan(a.counts_per_gram)) {
-    if (!(a.counts_per_gram > 0)) throw std::runtime_error("--counts-per-gram must be positive");
-    settings.calibration.counts_per_gram = float(a.counts_per_gram);
+  if (a.counts_per_gram) {
+    settings.calibration.counts_per_gram = float(*a.counts_per_gram);
     settings.calibration.span_set = true;
   }
   return settings;
@@ -132,6 +134,26 @@ void print_summary(const ReplaySummary& s) {
     std::printf("matches_recording=%d\n", s.first_mismatch_jiffy < 0 ? 1 : 0);
     if (s.first_mismatch_jiffy >= 0) std::printf("mismatch_jiffy=%ld\n", s.first_mismatch_jiffy);
   }
+}
+
+std::string and_more(std::size_t others) {
+  return others == 0 ? "" : " (and " + std::to_string(others) + " more)";
+}
+
+// Raw replays: a console line the indicator refused, or one the samples ran out before, is a
+// replay that did not do what was asked.
+int report_console_failures(const ReplaySummary& s) {
+  if (!s.refusals.empty()) {
+    std::fprintf(stderr, "dynweigh replay: the indicator refused %s%s\n", s.refusals.front().c_str(),
+                 and_more(s.refusals.size() - 1).c_str());
+    return 4;
+  }
+  if (!s.unsent.empty()) {
+    std::fprintf(stderr, "dynweigh replay: the samples ended before '%s' could be sent%s\n", s.unsent.front().c_str(),
+                 and_more(s.unsent.size() - 1).c_str());
+    return 4;
+  }
+  return 0;
 }
 
 int run(const Arguments& a) {
@@ -219,7 +241,7 @@ int run(const Arguments& a) {
                  summary.mismatch.c_str());
     return 3;
   }
-  return 0;
+  return report_console_failures(summary);
 }
 
 }  // namespace
@@ -231,22 +253,26 @@ int run_replay_command(int argc, char** argv) {
       "FILE is an inputs recording (dynweigh-fw --record: replays bit for bit, checked against the live run),\n"
       "a readtestdata capture (`<jiffy> <raw> <filtered> <marker>` lines; OK and blank lines skipped), or a\n"
       "CSV with a `raw` column (dynweigh-fw --csv, dynweigh term --out). Raw samples replay OPEN LOOP: the\n"
-      "valve decisions did not act on the recording. Summary as key=value lines on stdout."};
+      "valve decisions did not act on the recording. Summary as key=value lines on stdout.\n"
+      "Exit status: 0 done; 1 bad file or option; 3 the replay differs from the recording; 4 the indicator\n"
+      "answered ERR to a --dose/--send line (shown on stderr), or the samples ended before it was sent."};
   app.add_option("file", a.file, "inputs recording, readtestdata capture or CSV with a raw column")->required();
   app.add_option("--strategy", a.strategy, "model, preact, twostage, learn: the doses' strategy");
   app.add_option("--dose", a.dose,
                  "raw samples: send `dose G` (G grams, or `auto`: the fill the recording reached) when the recorded "
                  "valve opened");
   app.add_option("--send", a.send, "raw samples: a console line, sent once the previous command has finished (repeatable)");
-  app.add_option("--at", a.at, "raw samples: jiffy of the first console line (default: when the recorded valve opened)");
+  app.add_option("--at", a.at, "raw samples: jiffy of the first console line (default: when the recorded valve opened)")
+      ->check(CLI::Range(0L, 100'000'000L));
   app.add_option("--csv", a.csv,
                  "per jiffy: t_s,jiffy,raw,gross_g,filtered_g,prediction_g,valve,state,recorded_valve");
   app.add_option("--console-out", a.console_out, "write the indicator's console output to this file");
   app.add_option("--scene", a.scene, "raw samples: calibrate as the indicator of this scene's plant")->capture_default_str();
   app.add_option("--seed", a.seed, "raw samples: seed of that plant (its calibration)")->capture_default_str();
   app.add_option("--nvm", a.nvm, "raw samples: calibration and parameters from a dynweigh-fw --nvm file");
-  app.add_option("--zero-counts", a.zero_counts, "raw samples: counts of the empty scale");
-  app.add_option("--counts-per-gram", a.counts_per_gram, "raw samples: span");
+  app.add_option("--zero-counts", a.zero_counts, "raw samples: counts of the empty scale")
+      ->check(FiniteRange(double(INT32_MIN), double(INT32_MAX)));
+  app.add_option("--counts-per-gram", a.counts_per_gram, "raw samples: span")->check(FiniteRange(1e-6, 1e6));
   app.add_flag("-q,--quiet", a.quiet, "no progress bar, no open-loop notice");
   try {
     app.parse(argc, argv);

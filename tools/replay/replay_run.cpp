@@ -3,6 +3,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/hal/host/inputs_recording.hpp"
@@ -57,6 +58,8 @@ class ReplayStepper {
 
   const std::string& console_tx() const { return tx_; }
   bool busy() const { return indicator_->busy(); }
+  // The ERR answers printed since the last call.
+  std::vector<std::string> take_errors() { return std::exchange(errors_, {}); }
 
  private:
   void collect_results() {
@@ -64,6 +67,7 @@ class ReplayStepper {
     for (std::size_t end; (end = pending_line_.find('\n')) != std::string::npos;) {
       const std::string line = pending_line_.substr(0, end);
       if (line.rfind("RESULT ", 0) == 0) summary_.results.push_back(line);
+      if (line.rfind("ERR", 0) == 0) errors_.push_back(line.back() == '\r' ? line.substr(0, line.size() - 1) : line);
       pending_line_.erase(0, end + 1);
     }
   }
@@ -72,6 +76,7 @@ class ReplayStepper {
   const ReplaySinks& sinks_;
   ReplaySummary& summary_;
   std::string tx_, pending_line_;
+  std::vector<std::string> errors_;
   bool was_dosing_ = false;
   firmware::ValveCommand previous_valve_ = firmware::ValveCommand::closed;
 };
@@ -178,9 +183,14 @@ ReplaySummary replay_samples(const RecordedSamples& samples, const ReplayOptions
       waiting = true;
     }
     stepper.step(jiffy, valve);
+    for (const std::string& error : stepper.take_errors()) {
+      const std::string sent = next_line > 0 ? "'" + options.console_lines[next_line - 1] + "'" : "(nothing sent)";
+      summary.refusals.push_back(sent + ": " + error);
+    }
     if (waiting && !stepper.busy()) waiting = false;
     if (sinks.progress) sinks.progress(i + 1, samples.samples.size());
   }
+  summary.unsent.assign(options.console_lines.begin() + std::ptrdiff_t(next_line), options.console_lines.end());
   return summary;
 }
 

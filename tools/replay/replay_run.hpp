@@ -56,6 +56,10 @@ struct ReplaySummary {
   std::uint64_t jiffies = 0;
   bool open_loop = false;
   std::size_t commands_sent = 0;  // raw replays
+  // Raw replays: each console line the indicator answered with ERR, as "'<line>': ERR ...", and
+  // the lines never sent because the samples ran out first.
+  std::vector<std::string> refusals;
+  std::vector<std::string> unsent;
   std::size_t doses_rewritten = 0;
   long dose_start_jiffy = -1;     // the jiffy the first dose began
   long cutoff_jiffy = -1;         // the jiffy the firmware first commanded the valve closed in a dose

@@ -10,6 +10,7 @@
 
 #include "dynweigh/sim/scene_file.hpp"
 #include "dynweigh/sim/valve_schedule.hpp"
+#include "finite_range.hpp"
 #include "sim_commands.hpp"
 #include "trace_csv.hpp"
 
@@ -45,10 +46,11 @@ int run_sim_command(int argc, char** argv) {
   app.add_option("--scene", scene_name, "scene name or path to a .json scene file")->capture_default_str();
   app.add_option("--schedule", schedule_text, "valve events in jiffies: open@N, half@N, close@N, comma-separated")
       ->capture_default_str();
-  app.add_option("--duration", duration_s, "simulated seconds")->capture_default_str()->check(CLI::Range(0.0, 1e7));
+  app.add_option("--duration", duration_s, "simulated seconds")->capture_default_str()->check(tools::FiniteRange(0.0, 1e7));
   app.add_option("--csv", csv_path, "write one row per jiffy: t_s,jiffy,static_kg,in_flight_kg,force_n,raw,filtered_g,valve");
   app.add_option("--seed", seed, "seed of the plant's disturbances")->capture_default_str();
-  app.add_option("--step", step_s, "override the scene's internal step in seconds (must divide 10 ms)");
+  app.add_option("--step", step_s, "override the scene's internal step in seconds (must divide 10 ms)")
+      ->check(tools::FiniteRange(1e-7, 0.01));
   app.add_flag("--describe", describe, "print the scene's resolved parameters as key=value lines and exit");
   app.add_flag("--list", list, "print the scene names and exit");
   try {

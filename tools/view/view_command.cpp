@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -15,7 +17,9 @@
 
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
+#include "finite_range.hpp"
 #include "force_trace.hpp"
+#include "output_file.hpp"
 #include "png_writer.hpp"
 #include "scene_drawing.hpp"
 #include "view_commands.hpp"
@@ -37,11 +41,37 @@ struct Arguments {
   int width = 1100, height = 600;
 };
 
-// SDL and its window and GL context, released in the right order.
+constexpr const char* kNoDisplay =
+    "no display to open a window on: run it in a desktop session (DISPLAY or WAYLAND_DISPLAY set), or headless "
+    "with --frames N [--screenshot F.png]";
+
+bool has_display_environment() {
+  return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY") || std::getenv("SDL_VIDEODRIVER");
+}
+
+// SDL falls back to these when it finds no display: they draw, but nobody sees a window.
+bool headless_driver(const char* name) {
+  return name && (std::strcmp(name, "offscreen") == 0 || std::strcmp(name, "dummy") == 0);
+}
+
+// SDL and its window and GL context, released in the right order. An interactive window without a
+// display is refused; a --frames run without one renders offscreen.
 class Window {
  public:
-  Window(const std::string& title, int width, int height) {
-    if (SDL_Init(SDL_INIT_VIDEO) != 0) throw std::runtime_error(std::string("no display: ") + SDL_GetError());
+  Window(const std::string& title, int width, int height, bool interactive) {
+    if (!has_display_environment()) {
+      if (interactive) throw std::runtime_error(kNoDisplay);
+      SDL_SetHint(SDL_HINT_VIDEODRIVER, "offscreen");  // no probing of X11 and Wayland, no noise
+    } else if (!std::getenv("WAYLAND_DISPLAY")) {
+      SDL_SetHint(SDL_HINT_VIDEODRIVER, "x11");  // a DISPLAY that does not answer fails in one line
+    }
+    if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+      throw std::runtime_error(std::string("cannot open the display (") + SDL_GetError() + "); headless: unset DISPLAY, give --frames N");
+    }
+    if (interactive && headless_driver(SDL_GetCurrentVideoDriver())) {
+      SDL_Quit();
+      throw std::runtime_error(kNoDisplay);
+    }
     SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
     window_ = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, width, height,
                                SDL_WINDOW_OPENGL | SDL_WINDOW_SHOWN);
@@ -92,7 +122,7 @@ int run(const Arguments& a) {
   const auto scene = sim::scene_by_name(a.scene);
   if (!scene) throw std::runtime_error("unknown scene '" + a.scene + "'");
   auto plant = std::make_unique<sim::Plant>(*scene, a.seed);
-  Window window("dynweigh view: " + a.scene, a.width, a.height);
+  Window window("dynweigh view: " + a.scene, a.width, a.height, a.frames == 0);
   SDL_GL_SetSwapInterval(a.frames > 0 ? 0 : 1);
 
   ForceTrace trace;
@@ -198,16 +228,18 @@ int run_view_command(int argc, char** argv) {
   CLI::App app{"dynweigh view: a live window on a running scene: the silo, the valve, the falling stream, the pile\n"
                "and the force on the load cell scrolling by with the valve marker (SDL2 + OpenGL).\n"
                "Keys: space or p pause, s or right arrow one jiffy while paused, o open, h half, c close the\n"
-               "valve, r restart, q or Esc quit. The window title shows time, force, static mass, valve."};
+               "valve, r restart, q or Esc quit. The window title shows time, force, static mass, valve.\n"
+               "Without a display (neither DISPLAY nor WAYLAND_DISPLAY set) it exits 1 unless --frames is given:\n"
+               "then it renders offscreen."};
   app.add_option("--scene", a.scene, "scene name or .json file")->capture_default_str();
   app.add_option("--seed", a.seed, "seed of the plant's disturbances")->capture_default_str();
-  app.add_option("--fps", a.fps, "frames per second")->capture_default_str()->check(CLI::Range(1.0, 240.0));
-  app.add_option("--speed", a.speed, "simulated seconds per wall second")->capture_default_str()->check(CLI::Range(0.01, 100.0));
-  app.add_option("--open-at", a.open_at_s, "open the valve at this simulated time, s");
-  app.add_option("--close-at", a.close_at_s, "close the valve at this simulated time, s");
+  app.add_option("--fps", a.fps, "frames per second")->capture_default_str()->check(FiniteRange(1.0, 240.0));
+  app.add_option("--speed", a.speed, "simulated seconds per wall second")->capture_default_str()->check(FiniteRange(0.01, 100.0));
+  app.add_option("--open-at", a.open_at_s, "open the valve at this simulated time, s")->check(FiniteRange(0.0, 1e7));
+  app.add_option("--close-at", a.close_at_s, "close the valve at this simulated time, s")->check(FiniteRange(0.0, 1e7));
   app.add_option("--frames", a.frames, "render this many frames (each --speed/--fps of simulated time) as fast as "
-                 "possible, then exit")->check(CLI::Range(1, 1000000));
-  app.add_option("--screenshot", a.screenshot, "with --frames: save the last frame as this PNG");
+                 "possible, then exit; runs without a display too")->check(CLI::Range(1, 1000000));
+  app.add_option("--screenshot", a.screenshot, "with --frames: save the last frame as this .png file");
   app.add_option("--width", a.width, "window width, pixels")->capture_default_str()->check(CLI::Range(200, 4096));
   app.add_option("--height", a.height, "window height, pixels")->capture_default_str()->check(CLI::Range(150, 4096));
   try {
@@ -219,9 +251,15 @@ int run_view_command(int argc, char** argv) {
     std::fprintf(stderr, "dynweigh view: %s\n", e.what());
     return 2;
   }
+  bool created = false;
   try {
+    if (!a.screenshot.empty()) {
+      require_extension(a.screenshot, "png", "--screenshot");
+      created = check_writable(a.screenshot);  // before the window and the frames, not after them
+    }
     return run(a);
   } catch (const std::exception& e) {
+    if (created) std::remove(a.screenshot.c_str());  // no empty picture left behind
     std::fprintf(stderr, "dynweigh view: %s\n", e.what());
     return 1;
   }
