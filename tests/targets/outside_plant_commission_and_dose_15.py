@@ -21,8 +21,10 @@ TEST_KG = 10.0
 CAL_TRIES = 3
 # The scale must be at rest before the valve opens (the stable window, 0.5 s by default, and what
 # is left of the last fill's ringing on this 11 Hz platform); a dose held back behind the last
-# one's 10 s test-data recording waits 5-8 s.
-DOSE_STARTS_WITHIN_S = 3.0
+# one's 10 s test-data recording waits 5-8 s. The result is certified through the ringing, before
+# the platform is at rest, so the next opening waits for rest: 1-3.6 s measured here as the load grows
+# and the platform's ring slows. The bound tells that wait from the recording's hold.
+DOSE_STARTS_WITHIN_S = 4.5
 AGREEMENT_G = 3.0  # certified final against the truth: the calibration's few d, nothing more
 
 
@@ -94,6 +96,7 @@ def main():
             for i, d in enumerate(doses.doses, 1):
                 if d.opened_jiffy is not None:
                     wait = (d.opened_jiffy - d.sent_jiffy) * JIFFY_S
+                    print(f"dose {i} target={d.target} opened_after_s={wait:.2f}")
                     failures.check(wait <= DOSE_STARTS_WITHIN_S,
                                    f"dose {i} ({d.target} g) opened the valve {wait:.2f} s after `dose`, "
                                    f"not within {DOSE_STARTS_WITHIN_S} s")
