@@ -1,4 +1,4 @@
-// Commissioning a scale the indicator has never met (issue 14): `zero`, a test weight, `cal <g>`,
+// Commissioning a scale the indicator has never met: `zero`, a test weight, `cal <g>`,
 // at any ADC offset and gain, on a platform that still rings from the weight set down. A synthetic
 // load cell (no plant: the counts are known exactly) feeds the indicator's step function.
 #include <gtest/gtest.h>

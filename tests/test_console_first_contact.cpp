@@ -1,4 +1,4 @@
-// The console as a filling line, a terminal and a slow UART meet it (issue 14): doses back to back,
+// The console as a filling line, a terminal and a slow UART meet it: doses back to back,
 // no weight from no sample, every answer whole at 115 bytes a jiffy, line editing and echo, and a
 // jiffy that belongs to the board.
 #include <gtest/gtest.h>

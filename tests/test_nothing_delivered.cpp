@@ -1,4 +1,4 @@
-// A dose that delivers nothing is a fault, whatever the strategy (issue 14): from a silo that is
+// A dose that delivers nothing is a fault, whatever the strategy: from a silo that is
 // empty, or runs dry, no dose ends in `OK` with no more than its own OIML R61 X(5) limit delivered.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Supervision and timing that know the valve the indicator has (issue 14): valves from 10 to 80 ms
+// Supervision and timing that know the valve the indicator has: valves from 10 to 80 ms
 // dead time and 40 to 300 ms stroke, left at the datasheet's parameters (30 ms, 80 ms), with feedback
 // that reports `moving` through the stroke and feedback that reports end positions only.
 #include <gtest/gtest.h>

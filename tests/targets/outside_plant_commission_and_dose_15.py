@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 14, done when: the outside plant over udp, driven through --console stdio, commissions a
+"""First contact end to end: the outside plant over udp, driven through --console stdio, commissions a
 fresh indicator (new --nvm file) with `zero`, a 10 kg test weight and `cal 10000` at an arbitrary
 offset and gain (-1,234,567,890 counts, 37,000 counts/kg, 0.7 d noise), tells it the installation
 (bore, fall, container as built, the density 3 % off, a 100 kg scale), then doses 1000, 3000 and

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 14 item 2, commissioning a new scale over udp, each case on a fresh indicator (a new
+"""Commissioning a new scale over udp, each case on a fresh indicator (a new
 --nvm file in a temporary directory):
 
 1. A fresh indicator has no calibration: `dose 1000` answers `ERR 5 not calibrated`.
@@ -84,7 +84,7 @@ def uncalibrated_dose_refused(fw, failures, directory):
     def body():
         plant = holder["plant"] = OutsidePlant(fw, soft_platform(-5_000_000, 20_000.0, 0.5, 7),
                                                nvm=fresh_nvm(directory + "/uncalibrated"))
-        answer = plant.command("dose 1000", 90.0)  # typed before the first sample: item 1 aside
+        answer = plant.command("dose 1000", 90.0)  # typed before the first sample
         failures.check(answer is not None and answer.final == "ERR 5 not calibrated",
                        f"a fresh indicator (new --nvm file) answered `dose 1000` with [{answer_text(answer)}], "
                        "not `ERR 5 not calibrated`")

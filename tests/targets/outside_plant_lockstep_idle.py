@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 14 item 1, the control loop never waits on the console: the outside plant sends samples
+"""The control loop never waits on the console: the outside plant sends samples
 for 2 s before the first console line and requires the 0x220 answering each (its counter, once),
 and the indicator's heartbeat every 100 ms; then the operator asks `status` and doses 3000 g, and
 closes the input while the dose runs: the dose finishes (RESULT, OK) and dynweigh-fw exits 0."""

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 14 item 3, supervision that knows the valve it has. Valves from 10 to 80 ms dead time and
+"""Supervision that knows the valve it has. Valves from 10 to 80 ms dead time and
 40 to 300 ms stroke, with feedback that reports `moving` (position 1) through the stroke and
 feedback that does not (two latching limit switches: open until the closed switch makes), the
 valve parameters left at their defaults (only bore, fall, container and density set):

@@ -56,7 +56,7 @@ struct Outputs {
   std::uint8_t valve_delay_100us = 0;  // SPEC §4 0x220: apply the command this much into the jiffy
   std::uint16_t answered_counter = 0;  // the sample this jiffy answers
   IndicatorState state = IndicatorState::idle;
-  std::int32_t weight_100mg = 0;       // SPEC §4 0x181, or kWeightUnknown100mg
+  std::int32_t weight_100mg = 0;       // the 0x181 status frame's weight, or kWeightUnknown100mg
   bool settings_changed = false;       // the board should persist settings() now
   bool busy = false;                   // a command is still running (dose, test cycle, print)
 };
