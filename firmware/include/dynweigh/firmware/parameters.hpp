@@ -33,6 +33,7 @@ enum class ParameterId : std::uint8_t {
   model_estimator,
   platform_hz,
   platform_kg,
+  twostage_coarse_g,
   count
 };
 
