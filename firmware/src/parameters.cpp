@@ -51,8 +51,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      nullptr, 0},
     {"platform_kg", "moving mass at platform_hz (platform and container when the scale reads 0), kg", 0.1f,
      10000, 4, nullptr, 0},
-    {"twostage_coarse_g", "twostage strategy: the reading's rise from the switch to fine until the fine stream has "
-     "landed (coarse in flight), measured and adapted after each fill, g", 0, 100000, 1500, nullptr, 0},
+    {"twostage_coarse_g", "twostage strategy: the reading's rise from the switch to the settled fine feed, "
+     "adapted after each fill, g", 0, 100000, 1500, nullptr, 0},
 };
 
 }  // namespace

@@ -10,8 +10,11 @@ constexpr std::uint32_t kCoarseRateJiffies = 25;
 // brings makes the reading dip through the display filter.
 constexpr std::uint32_t kDipJiffies = 10;
 constexpr float kDipFraction = 0.5f;
-// A stream that never shows its dip (a half-open flow close to the full) is armed after this long.
+// A stream that never shows its dip (a half-open flow close to the full, or a valve stuck open) is
+// armed after this long, or once the reading has risen twice the learned overrun since the switch:
+// the dip's impulse is less than the overrun itself, so a healthy fine feed never gets that far.
 constexpr float kBlankLimitS = 3.0f;
+constexpr float kBlankLimitOverruns = 2.0f;
 // Less than this coarse rate is no coarse stream: nothing has landed yet to wait out.
 constexpr float kNoStreamG_S = 20.0f;
 // The adaptation, as SIWAREX and Rice Lake's PREACT LEARN: half the last error, capped, so one odd
@@ -99,7 +102,7 @@ bool TwoStageCutoff::fine_stream_settled(float filled_g) {
     measured_overrun_ = true;
     return true;
   }
-  return since_switch_s >= kBlankLimitS;
+  return since_switch_s >= kBlankLimitS || filled_g - switch_weight_g_ >= kBlankLimitOverruns * coarse_g_;
 }
 
 void TwoStageCutoff::learn(float final_g) {
