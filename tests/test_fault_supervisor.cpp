@@ -192,6 +192,33 @@ TEST(FaultSupervisor, DoseWithoutRisingWeightIsNoFlowAfterTwoSeconds) {
   EXPECT_EQ(jiffies, 200);
 }
 
+// A two-stage feed's reading dips when the half-open stream lands (the full stream's impulse is
+// gone): a sensor that freezes in the dip is still found by its identical counts, not two seconds
+// later by no_flow.
+TEST(FaultSupervisor, SensorFrozenWhileTheReadingDipsIsFrozen) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::half;
+  o.position = ValvePosition::half;
+  o.dose_flowing = o.dose_running = true;
+  o.counts_per_gram = 1.0f;
+  constexpr int kDipJiffy = 100;     // the reading falls from here, the counts with it
+  constexpr int kFreezeJiffy = 160;  // and the counts stick here, the reading still falling
+  int jiffies = 0;
+  Fault f = Fault::none;
+  while (f == Fault::none && jiffies < 1000) {
+    o.fresh_sample = true;
+    const int j = jiffies;
+    o.filtered_g = j < kDipJiffy ? 24.0f * float(j) : 24.0f * kDipJiffy - 8.0f * float(j - kDipJiffy);
+    const int live = j < kFreezeJiffy ? j : kFreezeJiffy;
+    o.raw_counts = 8000.0f + (live < kDipJiffy ? 24.0f * float(live) : 24.0f * kDipJiffy - 8.0f * float(live - kDipJiffy));
+    f = s.watch(o);
+    ++jiffies;
+  }
+  EXPECT_EQ(f, Fault::sensor_frozen);
+  EXPECT_LE(jiffies, kFreezeJiffy + 20);
+}
+
 // After a dose's close with lying feedback: the weight keeps rising at `grams_per_jiffy`, or (0)
 // only rings the way a loaded platform rings through the display filter.
 int jiffies_to_flow_after_close(float grams_per_jiffy, float ringing_g) {

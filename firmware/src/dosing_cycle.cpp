@@ -22,8 +22,7 @@ void DosingCycle::configure(const Parameters& p) {
   model_.configure(p);
   jiffy_s_ = p.get(ParameterId::jiffy_ms) / 1000.0f;
   preact_g_ = p.get(ParameterId::preact_g);
-  twostage_band_g_ = p.get(ParameterId::twostage_band_g);
-  twostage_preact_g_ = p.get(ParameterId::twostage_preact_g);
+  two_stage_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
@@ -55,6 +54,7 @@ void DosingCycle::open_from_rest() {
   awaiting_rest_ = false;
   start_weight_g_ = standstill_.mean();
   model_.start(start_weight_g_);
+  two_stage_.start(float(result_.target_g));
   valve_ = ValveCommand::open;
 }
 
@@ -97,15 +97,11 @@ bool DosingCycle::decide_preact(float filtered_weight_g, float preact_g) {
 }
 
 bool DosingCycle::decide_twostage(float filtered_weight_g) {
-  const float filled = filtered_weight_g - start_weight_g_;
-  if (valve_ == ValveCommand::open && filled >= float(result_.target_g) - twostage_band_g_) {
-    valve_ = ValveCommand::half;  // fine feed: less in flight, so less to be wrong about
-  }
-  if (valve_ != ValveCommand::half) {
-    last_prediction_g_ = filled;
-    return false;
-  }
-  return decide_preact(filtered_weight_g, twostage_preact_g_);
+  const ValveCommand wanted = two_stage_.step(filtered_weight_g - start_weight_g_);
+  last_prediction_g_ = two_stage_.prediction_g();
+  if (wanted == ValveCommand::closed) return true;
+  valve_ = wanted;
+  return false;
 }
 
 void DosingCycle::close_valve(float settle_delay_s) {
@@ -194,8 +190,8 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (certify(net_weight_g, filtered_weight_g)) {
     result_.time_ms = std::uint32_t(std::lround(elapsed_s * 1000.0f));
     phase_ = Phase::idle;
-    if (delivered_nothing()) return Outcome::nothing_delivered;
-    if (result_.strategy == DosingStrategy::twostage) adapt_twostage_preact();
+    if (delivered_nothing()) return Outcome::nothing_delivered;  // teaches nothing
+    if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
     return Outcome::certified;
   }
   if (float(jiffies_ - result_.cutoff_jiffy) * jiffy_s_ > settle_limit_s_) {
@@ -209,17 +205,6 @@ bool DosingCycle::delivered_nothing() const {
   const float target = float(result_.target_g);
   const float limit = kNothingDeliveredClass * model::oiml_r61_x1_limits(target).initial_verification_g;
   return float(result_.final_g) <= limit;
-}
-
-void DosingCycle::adapt_twostage_preact() {
-  // Rice Lake's PREACT LEARN: correct half the last error; capped like SIWAREX so that one odd
-  // fill cannot throw the preact far.
-  const float error = float(result_.final_g - result_.target_g);
-  const float cap = 10.0f + 0.25f * twostage_preact_g_;
-  float step = 0.5f * error;
-  step = step > cap ? cap : (step < -cap ? -cap : step);
-  const float next = twostage_preact_g_ + step;
-  twostage_preact_g_ = next < 0.0f ? 0.0f : next;
 }
 
 }  // namespace dynweigh::firmware

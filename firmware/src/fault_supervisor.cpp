@@ -212,7 +212,9 @@ Fault FaultSupervisor::watch_flow(const Observation& o) {
   identical_samples_ = o.raw_counts == last_raw_counts_ ? identical_samples_ + 1 : 0;
   last_raw_counts_ = o.raw_counts;
   if (history_count_ < kHistory) return Fault::none;
-  const float rate_counts = (o.filtered_g - oldest_g) * o.counts_per_gram / float(kHistory);
+  // Falling counts are as live as rising ones: a two-stage feed's reading dips when the reduced
+  // stream lands, and a sensor that freezes there must not wait for no_flow's two seconds.
+  const float rate_counts = std::fabs(o.filtered_g - oldest_g) * o.counts_per_gram / float(kHistory);
   if (!(rate_counts > 0.0f)) return Fault::none;
   float needed = std::fmax(float(kFrozenMinSamples), std::ceil(kFrozenMinCounts / rate_counts));
   // At a crest of the platform's ringing the flow's rise and the ring's fall cancel for a few

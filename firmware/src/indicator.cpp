@@ -245,7 +245,8 @@ void Indicator::advance_dose() {
     settings_changed_ = true;
   }
   if (r.strategy == DosingStrategy::twostage) {
-    settings_.parameters.set(ParameterId::twostage_preact_g, dosing_.adapted_twostage_preact_g());
+    settings_.parameters.set(ParameterId::twostage_preact_g, dosing_.two_stage().fine_preact_g());
+    settings_.parameters.set(ParameterId::twostage_coarse_g, dosing_.two_stage().coarse_g());
     settings_changed_ = true;
   }
   console_.write("RESULT target=");

@@ -37,10 +37,10 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"subjiffy", "time the close within the jiffy (valve delay byte): 1 on, 0 off", 0, 1, 1, nullptr, 0},
     {"certify", "result certification: auto (dynamic for model/learn), stable, dynamic", 0, 2, 0,
      kCertifyNames, 3},
-    {"twostage_band_g", "twostage strategy: fine feed (half open) this far before the target, g", 0, 100000,
-     1000, nullptr, 0},
-    {"twostage_preact_g", "twostage strategy: fine-feed preact, adapted after each fill, g", 0, 100000, 60,
-     nullptr, 0},
+    {"twostage_band_g", "twostage strategy: what the settled fine (half-open) stream adds before its cutoff, g",
+     0, 100000, 1000, nullptr, 0},
+    {"twostage_preact_g", "twostage strategy: fine cutoff this far before the target (negative: after it), "
+     "adapted after each fill, g", -100000, 100000, 140, nullptr, 0},
     {"model_fine_s", "model strategy: half-open fine feed for this many seconds of full flow before the "
      "target (0: fastest)", 0, 10, 0, nullptr, 0},
     {"pile_rise", "model strategy: the heap rises in the container (1), or the fall height stays fixed (0: a "
@@ -54,6 +54,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"standstill_timeout_s", "zero and cal wait this long for standstill, then ERR 3 in motion, s", 5, 600, 10,
      nullptr, 0},
     {"echo", "echo what is typed on the console: 1 on, 0 off (scripts)", 0, 1, 0, nullptr, 0},
+    {"twostage_coarse_g", "twostage strategy: the reading's rise from the switch to the settled fine feed, "
+     "adapted after each fill, g", 0, 100000, 1500, nullptr, 0},
 };
 
 // The longest text write_decimal(value, 3) gives for a value in [minimum, maximum].

@@ -60,6 +60,10 @@ firmware::PersistentSettings installation(const Scenario& scenario, const sim::P
   return settings;
 }
 
+bool is_two_stage(BenchStrategy strategy) {
+  return strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
+}
+
 const char* firmware_strategy(BenchStrategy strategy) {
   switch (strategy) {
     case BenchStrategy::preact: return "preact";
@@ -241,7 +245,10 @@ void tune_preact(const Scenario& scenario, BenchStrategy strategy, double target
     overshoot += f.true_fill_g - target_g;
     ++counted;
   }
-  if (counted) settings.parameters.set(id, float(std::max(0.0, overshoot / counted)));
+  // A single-stage preact closes before the target; a two-stage fine cutoff may have to close after it
+  // (its reading can run ahead of what has fallen).
+  const double tuned = overshoot / counted;
+  if (counted) settings.parameters.set(id, float(strategy == BenchStrategy::preact ? std::max(0.0, tuned) : tuned));
 }
 
 }  // namespace
@@ -274,13 +281,12 @@ sim::Scene scene_for_fill(const Scenario& scenario, std::size_t fill_index, std:
   return scene;
 }
 
-SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t seeds) {
-  SeriesResult result;
-  result.spec = spec;
+namespace {
+// The installation values and the series' knob and certification.
+firmware::PersistentSettings series_settings(const SeriesSpec& spec, const Scenario& scenario) {
   const sim::Plant reference(scenario.scene, 1);
   firmware::PersistentSettings settings = installation(scenario, reference);
-  const bool two_stage = spec.strategy == BenchStrategy::twostage || spec.strategy == BenchStrategy::twostage_dyn;
-  if (two_stage) {
+  if (is_two_stage(spec.strategy)) {
     const double band_g = spec.knob * reference.full_open_rate_kg_s() * 1000.0;
     settings.parameters.set(firmware::ParameterId::twostage_band_g, float(band_g));
   }
@@ -290,6 +296,25 @@ SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::u
   if (spec.strategy == BenchStrategy::twostage_dyn) {
     settings.parameters.set(firmware::ParameterId::certify, float(firmware::CertifyMode::dynamic));
   }
+  return settings;
+}
+}  // namespace
+
+std::vector<double> fills_from_defaults(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t fills) {
+  firmware::PersistentSettings settings = series_settings(spec, scenario);
+  std::vector<double> errors;
+  for (std::uint32_t s = 1; s <= fills; ++s) {
+    const Fill f = indicator_fill(scene_for_fill(scenario, s - 1, fills), s, spec.strategy, spec.target_g, settings);
+    errors.push_back(f.ok ? f.true_fill_g - spec.target_g : std::nan(""));
+  }
+  return errors;
+}
+
+SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t seeds) {
+  SeriesResult result;
+  result.spec = spec;
+  firmware::PersistentSettings settings = series_settings(spec, scenario);
+  const bool two_stage = is_two_stage(spec.strategy);
   if (spec.strategy == BenchStrategy::preact || two_stage) tune_preact(scenario, spec.strategy, spec.target_g, settings);
   if (two_stage || spec.strategy == BenchStrategy::learn) {
     for (std::uint32_t i = 0; i < kWarmUpFills; ++i) {

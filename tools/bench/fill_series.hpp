@@ -52,4 +52,9 @@ sim::Scene scene_for_fill(const Scenario& scenario, std::size_t fill_index, std:
 
 SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t seeds);
 
+// An adaptive baseline as an integrator first meets it: the installation values and the knob, every
+// other parameter at its default, no trial fills; then `fills` fills (seeds 1..fills) learning from
+// each other. Each fill's error by the plant's true mass (NaN for a fill that failed).
+std::vector<double> fills_from_defaults(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t fills);
+
 }  // namespace dynweigh::tools

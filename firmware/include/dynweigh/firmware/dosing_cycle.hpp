@@ -12,6 +12,7 @@
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
+#include "dynweigh/firmware/two_stage_cutoff.hpp"
 #include "dynweigh/model/damped_settling_fit.hpp"
 
 namespace dynweigh::firmware {
@@ -53,8 +54,8 @@ class DosingCycle {
   std::uint8_t valve_delay_100us() const { return valve_delay_100us_; }
   float last_prediction_g() const { return last_prediction_g_; }
   const DoseResult& result() const { return result_; }
-  // After a certified twostage fill: its preact corrected by half the error (capped).
-  float adapted_twostage_preact_g() const { return twostage_preact_g_; }
+  // After a certified twostage fill: its fine preact and coarse time, adapted.
+  const TwoStageCutoff& two_stage() const { return two_stage_; }
   // The kind of fill the learn strategy closed: where its residual belongs.
   const LearningKey& learning_key() const { return learning_key_; }
   // What the last model or learn dose measured of the valve and the material.
@@ -72,17 +73,15 @@ class DosingCycle {
   void close_valve(float settle_delay_s);
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
-  void adapt_twostage_preact();
   bool delivered_nothing() const;
 
   ModelCutoff model_;
+  TwoStageCutoff two_stage_;
   StableWeightDetector stable_;
   StableWeightDetector standstill_;
   model::DampedSettlingFit<float, 64> settling_fit_;
   float jiffy_s_ = 0.01f;
   float preact_g_ = 0.0f;
-  float twostage_band_g_ = 0.0f;
-  float twostage_preact_g_ = 0.0f;
   float model_fine_s_ = 0.0f;
   float timeout_s_ = 120.0f;
   float settle_limit_s_ = 60.0f;

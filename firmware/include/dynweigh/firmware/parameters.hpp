@@ -35,6 +35,7 @@ enum class ParameterId : std::uint8_t {
   platform_kg,
   standstill_timeout_s,
   echo,
+  twostage_coarse_g,
   count
 };
 
