@@ -8,7 +8,7 @@ cd "$work" || exit 1
 if ! "$bin/dynweigh" --help | grep -q '^  plant '; then echo "SKIP: dynweigh plant not built"; exit 77; fi
 printf 'dose 3000\n' | "$bin/dynweigh-fw" --record run.rec >/dev/null || { echo "cannot record"; exit 1; }
 jiffies=$("$bin/dynweigh" replay run.rec --quiet | sed -n 's/^jiffies=//p')
-[ "${jiffies:-0}" -gt 300 ] || { echo "the recording has ${jiffies:-no} jiffies"; exit 1; }
+[ "${jiffies:-0}" -gt 200 ] || { echo "the recording has ${jiffies:-no} jiffies"; exit 1; }
 
 port=$((20000 + (RANDOM * 2 + $$) % 40000))
 # Real time plays without waiting for an indicator; 20 jiffies are enough to learn what it loaded.

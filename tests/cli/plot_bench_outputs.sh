@@ -37,7 +37,7 @@ refused_quietly "$bin/dynweigh" plot missing.csv -o left.png
 [ "$(head -c 4 good.png | od -An -c | tr -d ' ')" = '211PNG' ] || { echo "FAIL: good.png is no PNG"; failures=$((failures + 1)); }
 
 if "$bin/dynweigh" --help | grep -q '^  bench '; then
-  grid=(bench --strategies preact --scenes default --targets 500 --seeds 2 --quiet)
+  grid=(bench --strategies preact --scenes default --targets 5000 --seeds 2 --quiet)
   refused_quietly "$bin/dynweigh" "${grid[@]}" --csv adir
   refused_quietly "$bin/dynweigh" "${grid[@]}" --csv /nonexistent/dir/x.csv
   refused_quietly "$bin/dynweigh" "${grid[@]}" --png /nonexistent/dir/x.png

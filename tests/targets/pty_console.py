@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The console on a pty, reached by an independent client (pyserial): `dynweigh-fw --console pty`
 prints console=<device>; starttestdata 50 600, wait for the cycle, readtestdata -> 1000 records.
-Every answer line ends in CR LF, as on a serial line (a terminal program needs the CR)."""
+Every answer line ends in CR LF, as on a serial line (a terminal program needs the CR). A person
+typing with corrections (DEL and backspace) gets the command they meant; `param echo 1` echoes
+what is typed, erasures as BS SP BS."""
 import argparse
 import re
 import subprocess
@@ -74,6 +76,23 @@ try:
     if markers[40] != 0 or markers[300] != 2 or markers[900] != 0:
         fail(f"valve markers do not follow the 50/600 schedule: {markers[40]} {markers[300]} {markers[900]}")
     print("records=1000")
+
+    # Typing as a person does: a slip corrected with DEL, another with backspace.
+    typed = answer("statx\x7fu\x08us")
+    if typed[-1] != "OK" or not typed[0].startswith("STATUS "):
+        fail(f"'statx<DEL>u<BS>us' answered {typed}, not STATUS then OK")
+    if answer("param echo 1")[-1] != "OK":
+        fail("param echo 1 refused")
+    port.reset_input_buffer()
+    port.write(b"versoin\x7f\x7f\x7fion\r")
+    echoed = b""
+    while time.monotonic() < deadline and not echoed.endswith(b"OK\r\n"):
+        echoed += port.read(64)
+    if not echoed.startswith(b"versoin\b \b\b \b\b \bion\r\n") or b"dynweigh " not in echoed:
+        fail(f"with echo on, typing 'versoin' and three DELs then 'ion' showed {echoed!r}")
+    if answer("param echo 0")[-1] != "OK":
+        fail("param echo 0 refused")
+    print("line_editing=ok echo=ok")
     print("PASS")
 finally:
     stop(fw)
