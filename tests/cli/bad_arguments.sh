@@ -43,6 +43,11 @@ refused "$fw" --plant sim:nosuch
 refused "$fw" --plant bogus
 refused "$fw" --console serial
 refused "$fw" --seed x
+refused "$fw" --seed -1
+refused "$fw" --seed 1e3
+refused "$fw" --realtime=3
+refused "$fw" --plant-timeout -1
+refused "$fw" --nvm-reset
 refused "$fw" --csv "$unwritable.csv"
 refused "$fw" --csv adir
 refused "$fw" --record "$unwritable.rec"

@@ -139,8 +139,12 @@ int main(int argc, char** argv) {
                  "stdio, pty (prints console=<device>) or a serial device; pty and devices answer in CR LF")
       ->check(CLI::IsMember({"stdio", "pty"}) | CLI::ExistingPath)
       ->capture_default_str();
-  app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time");
-  app.add_option("--seed", options.seed, "seed of the plant's disturbances")->capture_default_str();
+  app.add_flag("--realtime", options.realtime, "pace jiffies at 10 ms of wall time")->disable_flag_override();
+  app.add_option("--seed", options.seed, "seed of the plant's disturbances")->check(
+      [](const std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        return digits ? "" : "must be a whole number, 0 or more";
+      })->capture_default_str();
   app.add_option("--csv", options.csv, "write one row per jiffy: plant truth beside the firmware's view");
   app.add_option("--nvm", options.nvm,
                  "keep calibration and parameters in this file (created if absent; a path that cannot be "
