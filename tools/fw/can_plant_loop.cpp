@@ -10,16 +10,14 @@
 
 #include "dynweigh/hal/can/protocol.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
-#include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 #include "dynweigh/hal/host/stream_line_reader.hpp"
-#include "dynweigh/hal/host/tty_console.hpp"
 #include "dynweigh/hal/linux/can_board.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "nvm_start.hpp"
-#include "pty_link.hpp"
+#include "serial_console.hpp"
 #include "stop_signal.hpp"
 
 namespace dynweigh::tools {
@@ -125,18 +123,8 @@ int run_can_plant(const CanPlantOptions& options) {
     board.send_heartbeat(hal::can::kNmtStopped);
     return 0;
   };
-  if (options.console == "pty") {
-    hal::host::PtyConsole console;
-    const PtyLink pty_link(options.pty_link, console.device_path());
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
-    return serve(console);
-  }
-  if (options.console != "stdio") {
-    hal::host::TtyConsole console(options.console);
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
-    return serve(console);
+  if (const std::optional<int> status = serve_on_serial_console(options.console, options.pty_link, serve)) {
+    return *status;
   }
 
   // stdin is polled, never waited on: every sample gets its 0x220 whether or not a line has come.

@@ -13,14 +13,12 @@
 #include "dynweigh/hal/host/host_clock.hpp"
 #include "dynweigh/hal/host/inputs_recording.hpp"
 #include "dynweigh/hal/host/lockstep_session.hpp"
-#include "dynweigh/hal/host/pty_console.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/hal/host/stream_line_reader.hpp"
-#include "dynweigh/hal/host/tty_console.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "can_plant_loop.hpp"
 #include "nvm_start.hpp"
-#include "pty_link.hpp"
+#include "serial_console.hpp"
 #include "stop_signal.hpp"
 #include "trace_csv.hpp"
 
@@ -84,18 +82,8 @@ int run(const Options& options) {
     }
     return 0;
   };
-  if (options.console == "pty") {
-    hal::host::PtyConsole console;
-    const tools::PtyLink link(options.pty_link, console.device_path());
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
-    return serve(console);
-  }
-  if (options.console != "stdio") {
-    hal::host::TtyConsole console(options.console);
-    std::printf("console=%s\n", console.device_path().c_str());
-    std::fflush(stdout);
-    return serve(console);
+  if (const std::optional<int> status = tools::serve_on_serial_console(options.console, options.pty_link, serve)) {
+    return *status;
   }
 
   // stdin, read without blocking the loop. In lockstep the plant's time stands still while the
