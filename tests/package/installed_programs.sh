@@ -13,6 +13,10 @@ cd /  # no scenes/ in the working directory either
 [ "$("$fw" --version)" = "dynweigh-fw $version" ] || fail "dynweigh-fw --version: $("$fw" --version)"
 [ "$("$tool" --version)" = "dynweigh $version" ] || fail "dynweigh --version: $("$tool" --version)"
 "$fw" --help | grep -q -- "--plant" || fail "dynweigh-fw --help names no --plant"
+# The firmware's console says the package's version too.
+console_version=$(printf 'version\n' | "$fw")
+console_version=${console_version%%$'\n'*}
+[ "$console_version" = "dynweigh $version" ] || fail "the console's version says $console_version, the package $version"
 "$tool" --help | grep -q "^  sim " || fail "dynweigh --help lists no sim"
 
 # A scene that exists only in the unpacked package: found by name, so the lookup is the package's.
