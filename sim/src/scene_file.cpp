@@ -9,6 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "dynweigh/model/beverloo.hpp"
@@ -201,8 +204,26 @@ std::string scene_to_json(const Scene& scene, const std::string& notes_json) {
   return document.dump(2) + "\n";
 }
 
+namespace {
+// An installed program (the Debian package, `cmake --install`, or a package unpacked anywhere)
+// finds the scenes installed beside it: <its bin folder>/<DYNWEIGH_SCENES_FROM_BINDIR>.
+std::string installed_scenes_directory() {
+#ifdef DYNWEIGH_SCENES_FROM_BINDIR
+  char exe[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return "";
+  const std::string program(exe, std::size_t(n));
+  const std::string dir = program.substr(0, program.rfind('/') + 1) + DYNWEIGH_SCENES_FROM_BINDIR;
+  struct stat info {};
+  if (::stat(dir.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) return dir;
+#endif
+  return "";
+}
+}  // namespace
+
 std::string scenes_directory() {
   if (const char* env = std::getenv("DYNWEIGH_SCENES"); env && *env) return env;
+  if (std::string installed = installed_scenes_directory(); !installed.empty()) return installed;
 #ifdef DYNWEIGH_SCENES_DIR
   return DYNWEIGH_SCENES_DIR;
 #else

@@ -28,6 +28,9 @@ SKIPPED = {
     "openocd": "flashes an STM32F4 board through an ST-LINK (hardware)",
     "qemu-system-arm": "waits for a plant in another shell; the QEMU image is run by targets.cortexm_qemu_*",
     "dynweigh dem --scene default": "the DEM calibration runs for minutes on two cores (tests/grid covers it)",
+    "# build the Debian package": "builds in the source tree (tests/package builds the package and checks it)",
+    "# on the controller: install the package": "installs a package as root (tests/package unpacks it and runs it)",
+    "# one instance per scale": "needs root and systemd as init (tests/package verifies the unit and its launcher)",
 }
 SHELL_TAGS = {"sh", "bash", "shell", "console"}
 TIME_LIMIT_S = 120

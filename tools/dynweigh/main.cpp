@@ -65,7 +65,8 @@ constexpr Subcommand kSubcommands[] = {
 };
 
 void usage(std::FILE* out) {
-  std::fprintf(out, "usage: dynweigh <subcommand> [options]   (dynweigh <subcommand> --help for its options)\n\n");
+  std::fprintf(out, "usage: dynweigh <subcommand> [options]   (dynweigh <subcommand> --help for its options)\n"
+                    "       dynweigh --help | --version\n\n");
   for (const Subcommand& s : kSubcommands) std::fprintf(out, "  %-10s %s\n", s.name, s.summary);
 }
 
@@ -78,6 +79,10 @@ int main(int argc, char** argv) {
   }
   if (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     usage(stdout);
+    return 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    std::printf("dynweigh %s\n", DYNWEIGH_VERSION);
     return 0;
   }
   for (const Subcommand& s : kSubcommands) {

@@ -120,7 +120,7 @@ int run_can_plant(const CanPlantOptions& options) {
       if (first_sample.expired(board)) return first_sample.fail(link->name());
       // A plant that stops is not fatal here: the console stays up for the next one.
     }
-    board.send_heartbeat(hal::can::kNmtStopped);
+    board.leave();
     return 0;
   };
   if (const std::optional<int> status = serve_on_serial_console(options.console, options.pty_link, serve)) {
@@ -162,8 +162,8 @@ int run_can_plant(const CanPlantOptions& options) {
     console.set_indicator_busy(out.busy);
     if (console.input_ended() && !out.busy) break;
   }
-  // Tell the plant this indicator is leaving (CiA 301 heartbeat, NMT state stopped).
-  board.send_heartbeat(hal::can::kNmtStopped);
+  // Close a valve left open, and tell the plant this indicator is leaving (CiA 301 heartbeat, NMT stopped).
+  board.leave();
   return stop_requested() ? 128 + stop_signal() : 0;
 }
 

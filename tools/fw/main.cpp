@@ -121,6 +121,7 @@ int main(int argc, char** argv) {
   CLI::App app{"dynweigh-fw: the dynweigh weigh-indicator firmware on a host, against a simulated plant.\n"
                "Commands are read from the console (see `help`); with --console stdio each line is sent\n"
                "once the previous command has finished, and the program exits 0 at end of input."};
+  app.set_version_flag("--version", "dynweigh-fw " DYNWEIGH_VERSION, "print the version and exit");
   app.add_option("--plant", options.plant, "sim[:<scene>] (in-process plant, lockstep) or can:<transport>")
       ->capture_default_str();
   app.add_option("--console", options.console,
@@ -148,7 +149,7 @@ int main(int argc, char** argv) {
   app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());

@@ -33,7 +33,8 @@ std::string scene_list() {
 
 int run_sim_command(int argc, char** argv) {
   CLI::App app{"Run a plant scene open-loop with a valve schedule and write the cycle CSV (SPEC section 5).\n"
-               "Scenes: built-in default and ideal, and scenes/<name>.json (directory: $DYNWEIGH_SCENES).",
+               "Scenes: built-in default and ideal, and <name>.json in the scenes folder: $DYNWEIGH_SCENES, else\n"
+               "the installed ../share/dynweigh/scenes beside the program, else the source tree's scenes/.",
                "dynweigh sim"};
   std::string scene_name = "default";
   std::string schedule_text = "open@50,close@600";

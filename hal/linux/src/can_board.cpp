@@ -57,6 +57,15 @@ void CanBoard::send_heartbeat(std::uint8_t nmt_state) {
   transport_.send(can::encode(can::HeartbeatMessage{can::kNodeIndicator, nmt_state}));
 }
 
+void CanBoard::leave() {
+  if (valve_.last_command() != firmware::ValveCommand::closed) {
+    valve_.command(firmware::ValveCommand::closed, 0);
+    transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(firmware::ValveCommand::closed), 0,
+                                                         outputs_.answered_counter}));
+  }
+  send_heartbeat(can::kNmtStopped);
+}
+
 firmware::LinkStatus CanBoard::link_status(bool heard) const {
   if (transport_.bus_off()) return firmware::LinkStatus::bus_off;
   return heard ? firmware::LinkStatus::ok : firmware::LinkStatus::silent;

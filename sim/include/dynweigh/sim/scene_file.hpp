@@ -16,7 +16,8 @@ namespace dynweigh::sim {
 Scene parse_scene_json(const std::string& text, const std::string& origin);
 Scene load_scene_file(const std::string& path);
 
-// The scenes directory: $DYNWEIGH_SCENES, else the source tree's scenes/ (compile definition).
+// The scenes directory: $DYNWEIGH_SCENES, else the installed scenes beside the running program
+// (../share/dynweigh/scenes from its bin folder) when they exist, else the source tree's scenes/.
 std::string scenes_directory();
 
 // The scene's resolved parameters in SI units as key=value pairs, ending with the components it

@@ -75,6 +75,9 @@ class CanBoard {
   // (a heartbeat has gone out); `closed`: the link ended.
   Event poll(int timeout_ms);
   void send_heartbeat(std::uint8_t nmt_state);
+  // The indicator goes away (SIGTERM, end of input): a valve it left open is commanded closed at
+  // once, not left to the valve module's 50 ms watchdog, then the heartbeat says NMT stopped.
+  void leave();
 
   std::uint32_t jiffy() const { return jiffy_; }
   const firmware::Outputs& last_outputs() const { return outputs_; }
