@@ -31,12 +31,12 @@ refused --plants random:2 --targets x --quiet
 refused --fills 3 --scenes default --targets 500 --seeds 2 --quiet
 "$bin/dynweigh" bench --help | grep -q -- '--plants' || fail "bench --help does not mention --plants"
 
-run=(--plants random:2@3 --fills 2 --targets 500,2000 --strategies model,twostage --jobs 2 --quiet)
-timeout 300 "$bin/dynweigh" bench "${run[@]}" >out.txt 2>err.txt || fail "the tiny run failed: $(cat err.txt)"
+run=(--plants random:2@3 --fills 2 --targets 500,2000 --strategies model,twostage --quiet)
+timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 2 >out.txt 2>err.txt || fail "the tiny run failed: $(cat err.txt)"
 [ -s err.txt ] && fail "the tiny run wrote to stderr: $(cat err.txt)"
 cells='^strategy=(model|twostage) plant=random-[12] target_g=(500|2000) class_first=(X\([0-9.]+\)|none) '
 cells+='class_steady=(X\([0-9.]+\)|none) time_ratio=[0-9.]+ topups=[0-9]+ first_error_g=-?[0-9.]+ '
-cells+='steady_bias_g=-?[0-9.]+ steady_maxdev_g=[0-9.]+ failed=[0-9]+$'
+cells+='steady_bias_g=-?[0-9.]+ steady_maxdev_g=[0-9.]+ failed=[0-9]+ failure=[^ ]+$'
 summary='^summary strategy=(model|twostage) plants=2 seed=3 fills=2 cells=[0-9]+ first_x1_share=[01]\.[0-9]{3} steady_x1_share=[01]\.[0-9]{3}$'
 n_cells=$(grep -cE "$cells" out.txt)
 n_summaries=$(grep -cE "$summary" out.txt)

@@ -167,7 +167,16 @@ struct Cell {
   double time_ratio_sum = 0.0;
   std::size_t timed = 0;
   long topups = 0;
+  std::string failure = "-";  // the first failed fill's answer, one word
 };
+
+// "ERR 4 fault no_flow" -> "fault_no_flow"; a fill that ended without an answer: "no_result".
+std::string failure_word(const std::string& error) {
+  if (error.empty()) return "no_result";
+  std::string word = error.rfind("ERR ", 0) == 0 && error.size() > 6 ? error.substr(6) : error;
+  for (char& c : word) c = c == ' ' || c == '=' ? '_' : c;
+  return word;
+}
 
 std::string cell_line(const std::string& strategy, const std::string& plant, double target_g, const Cell& c,
                       std::uint32_t fills) {
@@ -181,10 +190,10 @@ std::string cell_line(const std::string& strategy, const std::string& plant, dou
   char line[400];
   std::snprintf(line, sizeof line,
                 "strategy=%s plant=%s target_g=%.0f class_first=%s class_steady=%s time_ratio=%.3f topups=%ld "
-                "first_error_g=%.1f steady_bias_g=%.1f steady_maxdev_g=%.1f failed=%zu",
+                "first_error_g=%.1f steady_bias_g=%.1f steady_maxdev_g=%.1f failed=%zu failure=%s",
                 strategy.c_str(), plant.c_str(), target_g, class_text(class_first).c_str(),
                 class_text(class_steady).c_str(), c.timed ? c.time_ratio_sum / double(c.timed) : 0.0, c.topups,
-                first_ok ? c.first_error_g : 0.0, bias, max_deviation, c.failed);
+                first_ok ? c.first_error_g : 0.0, bias, max_deviation, c.failed, c.failure.c_str());
   return line;
 }
 
@@ -216,6 +225,7 @@ std::string plant_job(const PlantFamilyOptions& o, const std::string& strategy, 
       if (!f.ok) {
         if (refuses_strategy(f.error)) throw std::runtime_error("strategy '" + strategy + "': " + f.error);
         ++cell.failed;
+        if (cell.failure == "-") cell.failure = failure_word(f.error);
         continue;
       }
       const double error_g = f.true_fill_g - target_g;
