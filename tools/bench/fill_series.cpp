@@ -59,6 +59,16 @@ bool is_two_stage(BenchStrategy strategy) {
   return strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
 }
 
+const char* firmware_strategy_word(BenchStrategy strategy) {
+  switch (strategy) {
+    case BenchStrategy::preact: return "preact";
+    case BenchStrategy::twostage:
+    case BenchStrategy::twostage_dyn: return "twostage";
+    case BenchStrategy::learn: return "learn";
+    default: return "model";
+  }
+}
+
 long field_value(const std::string& line, const char* key) {
   const auto at = line.find(std::string(key) + "=");
   return at == std::string::npos ? 0 : std::stol(line.substr(at + std::strlen(key) + 1));
@@ -109,12 +119,7 @@ ConsoleFill dose_through_console(const sim::Scene& scene, std::uint64_t seed, co
   return fill;
 }
 
-const char* firmware_strategy(BenchStrategy strategy) {
-  switch (strategy) {
-    case BenchStrategy::twostage_dyn: return "twostage";
-    default: return bench_strategy_name(strategy);  // the bench's name is the firmware's
-  }
-}
+const char* firmware_strategy(BenchStrategy strategy) { return firmware_strategy_word(strategy); }
 
 namespace {
 
