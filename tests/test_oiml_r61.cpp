@@ -30,5 +30,16 @@ TEST(OimlR61, NoClassForAWildSeries) {
   EXPECT_EQ(best_oiml_class(2000, 5.0, 1000.0), 0.0);
 }
 
+TEST(OimlR61, OneFillsClassIsTheSmallestWhoseInitialVerificationLimitHoldsItsDeviation) {
+  // 2 kg: X(1) holds 21 g; X(0.5) 10.5 g; X(5) 105 g.
+  EXPECT_EQ(oiml_class_of_deviation(2000, 21.0), 1.0);
+  EXPECT_EQ(oiml_class_of_deviation(2000, -21.0), 1.0);  // short or over alike
+  EXPECT_EQ(oiml_class_of_deviation(2000, 21.1), 2.0);
+  EXPECT_EQ(oiml_class_of_deviation(2000, 10.5), 0.5);
+  EXPECT_EQ(oiml_class_of_deviation(2000, 0.0), 0.1);
+  EXPECT_EQ(oiml_class_of_deviation(500, 105.0), 10.0);
+  EXPECT_EQ(oiml_class_of_deviation(500, 1051.0), 0.0);  // beyond X(100)
+}
+
 }  // namespace
 }  // namespace dynweigh::tools

@@ -130,7 +130,7 @@ void Plant::step() {
   }
 
   // Mean force over the step on what the load cell carries.
-  double external_n = (scene_.platform.container_kg + mean_static_kg) * scene_.g + impact;
+  double external_n = (scene_.platform.container_kg + test_weight_kg_ + mean_static_kg) * scene_.g + impact;
   if (components_.has(Component::hourglass)) {
     // The silo stands on the scale too: its content weighs until it leaves, and the bed pushes
     // each parcel to v0 on the way out (the reaction lightens the silo by mdot v0).
@@ -139,7 +139,7 @@ void Plant::step() {
   }
   double support_impulse_n_s = external_n * dt;
   if (platform_) {
-    platform_->step(external_n, moving_load_kg(scene_, truth_.static_kg), dt);
+    platform_->step(external_n, moving_load_kg(scene_, truth_.static_kg) + test_weight_kg_, dt);
     support_impulse_n_s = platform_->last_support_impulse_n_s();
   } else {
     // A rigid scale reads the force of the instant the step ends: the weights as they are then

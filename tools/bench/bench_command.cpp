@@ -17,6 +17,7 @@
 #include "fill_series.hpp"
 #include "grid_runner.hpp"
 #include "output_file.hpp"
+#include "plant_family_bench.hpp"
 #include "progress_bar.hpp"
 #include "series_row.hpp"
 #include "step_benchmark.hpp"
@@ -173,6 +174,29 @@ std::vector<SeriesSpec> series_specs(const std::string& strategies, const std::s
   return specs;
 }
 
+// --plants: the family, its strategies (no oracles by default) and its targets (every one the issue
+// names by default), and none of the scene grid's options.
+int run_plants(const CLI::App& app, const std::string& plants, const std::string& strategies, const std::string& targets,
+               std::uint32_t fills, unsigned jobs, bool quiet, const grid::ParallelSession& session) {
+  for (const char* option : {"--scenes", "--seeds", "--sweep", "--csv", "--png", "--journal", "--resume"}) {
+    if (app.count(option)) throw std::runtime_error(std::string(option) + " is not for --plants");
+  }
+  PlantFamilyOptions options;
+  options.plants = parse_plant_family_spec(plants);
+  options.strategies = split(app.count("--strategies") ? strategies : "model,learn,preact,twostage");
+  if (app.count("--targets")) {
+    Scenario scale;  // the family's scale: Max 50 kg
+    for (const auto& t : split(targets)) options.targets_g.push_back(parse_target(t, scale));
+  } else {
+    options.targets_g = kPlantFamilyTargetsG;
+  }
+  options.fills = fills;
+  options.threads = jobs;
+  options.progress = !quiet;
+  run_plant_family_bench(options, session);
+  return 0;
+}
+
 }  // namespace
 
 int run_bench_command(int argc, char** argv) {
@@ -184,7 +208,8 @@ int run_bench_command(int argc, char** argv) {
   }
   std::string strategies = "model,learn,preact,twostage,twostage-dyn,oracle,oracle-scale";
   std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png, journal;
-  std::uint32_t seeds = 50;
+  std::uint32_t seeds = 50, fills = 6;
+  std::string plants;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   bool sweep = false, quiet = false, resume = false;
   CLI::App app{"dynweigh bench: strategies x scenes x targets x seeds, closed loop through Indicator::step, judged\n"
@@ -207,6 +232,11 @@ int run_bench_command(int argc, char** argv) {
   app.add_option("--journal", journal, "append each series' result to FILE as it finishes (default: the --csv "
                                        "file + .journal; none without --csv)");
   app.add_flag("--resume", resume, "take the journal's finished series, compute only the missing ones");
+  app.add_option("--plants", plants, "random:N[@SEED] (SEED 1 unless given): N plants drawn across the physical "
+                                     "ranges, each commissioned through the console, each target dosed --fills times "
+                                     "(targets 500,1000,2000,5000,10000,15000 g unless --targets; those the plant holds)");
+  app.add_option("--fills", fills, "--plants: fills per target, back to back")->capture_default_str()
+      ->check(CLI::Range(2u, 1000u));
   app.add_flag("--quiet", quiet, "no progress bar");
   app.add_flag("--step", "Google Benchmark of Indicator::step (other options go to Google Benchmark)");
   app.add_flag("--sim", "the plant's realtime factor and error per scene");
@@ -226,6 +256,8 @@ int run_bench_command(int argc, char** argv) {
   const grid::ParallelSession session(true);
   std::vector<std::string> created;
   try {
+    if (app.count("--plants")) return run_plants(app, plants, strategies, targets, fills, jobs, quiet, session);
+    if (app.count("--fills")) throw std::runtime_error("--fills is for --plants (a scene's series: --seeds)");
     if (session.writer()) check_outputs(csv, png, journal, created);
     std::vector<Scenario> scenarios;
     for (const auto& name : scene_list.empty() ? default_scenarios() : split(scene_list)) {

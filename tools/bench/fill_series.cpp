@@ -33,12 +33,7 @@ static_assert(std::size(kNames) == static_cast<std::size_t>(BenchStrategy::oracl
 // the default scene at 10 kg (50 seeds) the last 0.1 s gives 94 g max deviation, the last 1 s 49 g.
 constexpr std::uint32_t kLandingWindowJiffies = 100;
 
-struct Fill {
-  bool ok = false;
-  double true_fill_g = 0.0;
-  double reported_fill_g = 0.0;
-  double time_s = 0.0;
-};
+using Fill = ConsoleFill;
 
 // What the installer types in: the plant's geometry (off by the scenario's error) and its valve's
 // datasheet timing. Nothing else is tuned.
@@ -64,7 +59,7 @@ bool is_two_stage(BenchStrategy strategy) {
   return strategy == BenchStrategy::twostage || strategy == BenchStrategy::twostage_dyn;
 }
 
-const char* firmware_strategy(BenchStrategy strategy) {
+const char* firmware_strategy_word(BenchStrategy strategy) {
   switch (strategy) {
     case BenchStrategy::preact: return "preact";
     case BenchStrategy::twostage:
@@ -79,13 +74,14 @@ long field_value(const std::string& line, const char* key) {
   return at == std::string::npos ? 0 : std::stol(line.substr(at + std::strlen(key) + 1));
 }
 
-Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy strategy, double target_g,
-                    firmware::PersistentSettings& settings) {
+}  // namespace
+
+ConsoleFill dose_through_console(const sim::Scene& scene, std::uint64_t seed, const std::string& strategy,
+                                 double target_g, firmware::PersistentSettings& settings) {
   hal::host::LockstepSession session(scene, seed, settings);
   std::string output;
   bool sent = false;
-  const std::string command =
-      "dose " + std::to_string(std::lround(target_g)) + " " + firmware_strategy(strategy);
+  const std::string command = "dose " + std::to_string(std::lround(target_g)) + " " + strategy;
   hal::host::ScriptedConsole console(
       [&](std::string& line) {
         if (sent) return false;
@@ -105,7 +101,11 @@ Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy s
     const firmware::Outputs out = session.step(console);
     console.set_indicator_busy(out.busy);
     if (sent && output.find("OK\n") != std::string::npos) break;
-    if (output.find("ERR") != std::string::npos) return fill;
+    const auto err = output.find("ERR");
+    if (err != std::string::npos) {
+      fill.error = output.substr(err, output.find('\n', err) - err);
+      return fill;
+    }
   }
   const auto at = output.find("RESULT ");
   if (at == std::string::npos) return fill;
@@ -114,8 +114,18 @@ Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy s
   fill.true_fill_g = (session.plant().truth().static_kg - before_kg) * 1000.0;
   fill.reported_fill_g = double(field_value(result, "final"));
   fill.time_s = double(field_value(result, "time")) / 1000.0;
+  fill.topups = field_value(result, "topups");
   settings = session.indicator().settings();  // what it learned goes on to the next fill
   return fill;
+}
+
+const char* firmware_strategy(BenchStrategy strategy) { return firmware_strategy_word(strategy); }
+
+namespace {
+
+Fill indicator_fill(const sim::Scene& scene, std::uint64_t seed, BenchStrategy strategy, double target_g,
+                    firmware::PersistentSettings& settings) {
+  return dose_through_console(scene, seed, firmware_strategy(strategy), target_g, settings);
 }
 
 // The limit strategies' result: when the last grain has landed and the valve is shut, the plant's
@@ -282,10 +292,8 @@ sim::Scene scene_for_fill(const Scenario& scenario, std::size_t fill_index, std:
 }
 
 namespace {
-// The installation values and the series' knob and certification.
-firmware::PersistentSettings series_settings(const SeriesSpec& spec, const Scenario& scenario) {
-  const sim::Plant reference(scenario.scene, 1);
-  firmware::PersistentSettings settings = installation(scenario, reference);
+// The series' knob and certification.
+void set_strategy_knob(const SeriesSpec& spec, const sim::Plant& reference, firmware::PersistentSettings& settings) {
   if (is_two_stage(spec.strategy)) {
     const double band_g = spec.knob * reference.full_open_rate_kg_s() * 1000.0;
     settings.parameters.set(firmware::ParameterId::twostage_band_g, float(band_g));
@@ -296,9 +304,23 @@ firmware::PersistentSettings series_settings(const SeriesSpec& spec, const Scena
   if (spec.strategy == BenchStrategy::twostage_dyn) {
     settings.parameters.set(firmware::ParameterId::certify, float(firmware::CertifyMode::dynamic));
   }
+}
+
+// The installation values and the series' knob and certification.
+firmware::PersistentSettings series_settings(const SeriesSpec& spec, const Scenario& scenario) {
+  const sim::Plant reference(scenario.scene, 1);
+  firmware::PersistentSettings settings = installation(scenario, reference);
+  set_strategy_knob(spec, reference, settings);
   return settings;
 }
 }  // namespace
+
+void set_up_strategy(const SeriesSpec& spec, const Scenario& scenario, firmware::PersistentSettings& settings) {
+  set_strategy_knob(spec, sim::Plant(scenario.scene, 1), settings);
+  if (spec.strategy == BenchStrategy::preact || is_two_stage(spec.strategy)) {
+    tune_preact(scenario, spec.strategy, spec.target_g, settings);
+  }
+}
 
 std::vector<double> fills_from_defaults(const SeriesSpec& spec, const Scenario& scenario, std::uint32_t fills) {
   firmware::PersistentSettings settings = series_settings(spec, scenario);

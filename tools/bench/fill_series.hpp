@@ -43,6 +43,27 @@ struct SeriesResult {
   double oiml_class = 0.0;         // 0: none
 };
 
+// One fill as an operator doses it: `dose <target> <strategy>` typed on the console of an
+// indicator with `settings`, on a fresh plant of `scene` (the container empty, the silo full) run
+// with `seed`. Judged by the plant's true mass; what the indicator learned goes back to `settings`.
+struct ConsoleFill {
+  bool ok = false;
+  double true_fill_g = 0.0;
+  double reported_fill_g = 0.0;
+  double time_s = 0.0;
+  long topups = 0;     // RESULT's topups=, 0 where it has none
+  std::string error;   // the indicator's ERR line, when it refused or failed
+};
+ConsoleFill dose_through_console(const sim::Scene& scene, std::uint64_t seed, const std::string& strategy,
+                                 double target_g, firmware::PersistentSettings& settings);
+
+// The word `dose` takes for a bench strategy.
+const char* firmware_strategy(BenchStrategy strategy);
+
+// A strategy's set-up on an installed indicator, as a series of the bench gets it: its knob, its
+// certification, and for preact and twostage the engineer's preact from trial fills (never counted).
+void set_up_strategy(const SeriesSpec& spec, const Scenario& scenario, firmware::PersistentSettings& settings);
+
 // The physical minimum time of a fill: valve dead time + target / full flow + fall time.
 double physical_minimum_s(const sim::Scene& scene, double target_g);
 

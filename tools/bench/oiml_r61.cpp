@@ -11,13 +11,24 @@ OimlLimits oiml_x1_limits(double m) {
   return {x1.initial_verification_g, x1.in_service_g};
 }
 
+namespace {
+constexpr double kClasses[] = {0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100};
+}
+
 double best_oiml_class(double fill_g, double max_deviation_g, double bias_g) {
-  static constexpr double kClasses[] = {0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100};
   const OimlLimits x1 = oiml_x1_limits(fill_g);
   for (double x : kClasses) {
     if (max_deviation_g <= x * x1.initial_verification_g && std::abs(bias_g) <= x * x1.in_service_g / 4.0) {
       return x;
     }
+  }
+  return 0.0;
+}
+
+double oiml_class_of_deviation(double fill_g, double deviation_g) {
+  const OimlLimits x1 = oiml_x1_limits(fill_g);
+  for (double x : kClasses) {
+    if (std::abs(deviation_g) <= x * x1.initial_verification_g) return x;
   }
   return 0.0;
 }

@@ -17,4 +17,8 @@ OimlLimits oiml_x1_limits(double fill_g);
 // x times the in-service limit. 0 when none is met.
 double best_oiml_class(double fill_g, double max_deviation_g, double bias_g);
 
+// The smallest class X(x) of the same list whose initial-verification limit holds one fill's
+// deviation from its target (a single fill has no mean to be judged against). 0 when none does.
+double oiml_class_of_deviation(double fill_g, double deviation_g);
+
 }  // namespace dynweigh::tools

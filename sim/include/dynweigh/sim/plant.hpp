@@ -47,6 +47,9 @@ class Plant {
   // A command reaches the valve `delay_s` after the present instant; repeats are ignored.
   void command_valve(ValveCommand command, double delay_s = 0.0);
   void advance(double seconds);
+  // A test weight set down on the platform at once (0: lifted off): a load beside the fill, as an
+  // integrator adjusts the span with (`cal`). The platform rings from it; it is not in static_kg.
+  void place_test_weight(double kg) { test_weight_kg_ = kg; }
   LoadCellSample sample() { return load_cell_.convert(support_force_n(), truth_.time_s); }
 
   const PlantTruth& truth() const { return truth_; }
@@ -83,6 +86,7 @@ class Plant {
   std::optional<ScalePlatform> platform_;
   LoadCell load_cell_;
   double rigid_support_force_n_;
+  double test_weight_kg_ = 0.0;
   ValveCommand last_command_ = ValveCommand::closed;
   std::uint64_t steps_ = 0;
   PlantTruth truth_;

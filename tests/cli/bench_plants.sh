@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# dynweigh bench --plants: a tiny family run prints one well-formed line per strategy x plant x
+# target it holds and a summary per strategy, the same bytes twice; wrong --plants specs and options
+# that do not go with it are refused in one line with a non-zero exit, before any work.
+set -uo pipefail
+bin=$(cd "$1" && pwd); work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+"$bin/dynweigh" --help | grep -q '^  bench ' || exit 77
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+refused() {  # refused ARGS...: dynweigh bench ARGS must refuse them
+  timeout 60 "$bin/dynweigh" bench "$@" >stdout 2>stderr </dev/null
+  local rc=$?
+  if [ "$rc" -eq 0 ] || [ "$rc" -ge 124 ]; then fail "exit $rc: bench $*"
+  elif [ "$(grep -c '' stderr)" -ne 1 ]; then fail "$(grep -c '' stderr) lines on stderr: bench $*"; cat stderr
+  elif [ -s stdout ]; then fail "output on stdout: bench $*"
+  else echo "ok: bench $* -> $(cat stderr)"
+  fi
+}
+
+for spec in random:0 random:x foo:3 random:3@-1 random: random:3@ random:3@x random:10001 'random:2 '; do
+  refused --plants "$spec" --quiet
+done
+refused --plants random:2 --fills 1 --quiet
+refused --plants random:2 --scenes default --quiet
+refused --plants random:2 --seeds 5 --quiet
+refused --plants random:2 --strategies oracle --quiet
+refused --plants random:2 --strategies sideways --quiet
+refused --plants random:2 --targets x --quiet
+refused --fills 3 --scenes default --targets 500 --seeds 2 --quiet
+"$bin/dynweigh" bench --help | grep -q -- '--plants' || fail "bench --help does not mention --plants"
+
+run=(--plants random:2@3 --fills 2 --targets 500,2000 --strategies model,twostage --quiet)
+timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 2 >out.txt 2>err.txt || fail "the tiny run failed: $(cat err.txt)"
+[ -s err.txt ] && fail "the tiny run wrote to stderr: $(cat err.txt)"
+cells='^strategy=(model|twostage) plant=random-[12] target_g=(500|2000) class_first=(X\([0-9.]+\)|none) '
+cells+='class_steady=(X\([0-9.]+\)|none) time_ratio=[0-9.]+ topups=[0-9]+ first_error_g=-?[0-9.]+ '
+cells+='steady_bias_g=-?[0-9.]+ steady_maxdev_g=[0-9.]+ failed=[0-9]+ failure=[^ ]+$'
+summary='^summary strategy=(model|twostage) plants=2 seed=3 fills=2 cells=[0-9]+ first_x1_share=[01]\.[0-9]{3} steady_x1_share=[01]\.[0-9]{3}$'
+n_cells=$(grep -cE "$cells" out.txt)
+n_summaries=$(grep -cE "$summary" out.txt)
+[ "$n_summaries" -eq 2 ] || fail "$n_summaries summary lines, not 2"
+[ "$n_cells" -ge 2 ] && [ "$n_cells" -le 8 ] || fail "$n_cells cell lines, not 2..8"
+[ "$((n_cells + n_summaries))" -eq "$(grep -c '' out.txt)" ] || fail "lines neither cells nor summaries"
+[ "$(grep -c '^strategy=model ' out.txt)" -eq "$(grep -c '^strategy=twostage ' out.txt)" ] ||
+  fail "the strategies met different cells"
+# The summaries come last and count the cells above them.
+tail -2 out.txt | grep -q '^summary strategy=model ' || fail "the summaries are not the last lines"
+model_cells=$(grep -c '^strategy=model ' out.txt)
+grep -q "^summary strategy=model .* cells=$model_cells " out.txt || fail "the model summary miscounts its cells"
+timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 1 >again.txt 2>/dev/null
+cmp -s out.txt again.txt || fail "a second run (one thread) printed other bytes"
+cat out.txt
+
+[ "$failures" -eq 0 ] && echo "bench --plants: all checks passed" || exit 1
