@@ -257,3 +257,59 @@ TEST(FaultSupervisor, SlowLeakIsFoundByTheLongWindowAndRingingIsNoLeak) {
 
 }  // namespace
 }  // namespace dynweigh::firmware
+
+namespace dynweigh::firmware {
+namespace {
+
+// A valve with an 80 ms dead time left at the datasheet's 30 ms, driven closed -> half -> closed (a
+// fine feed: no full stroke to time): the dead time its feedback showed opening is its own, and
+// the close is healthy; the same valve stuck at half after the close is still caught.
+TEST(FaultSupervisor, AValveClosedFromHalfIsJudgedByTheDeadTimeItShowedOpening) {
+  FaultSupervisor s = configured();
+  EXPECT_EQ(stroke(s, ValveCommand::half, ValvePosition::closed, ValvePosition::half, 8, 7, 60), Fault::none);
+  EXPECT_EQ(stroke(s, ValveCommand::closed, ValvePosition::half, ValvePosition::closed, 8, 7, 60), Fault::none);
+  EXPECT_EQ(stroke(s, ValveCommand::half, ValvePosition::closed, ValvePosition::half, 8, 7, 60), Fault::none);
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::closed;
+  o.position = ValvePosition::half;
+  int jiffies = 0;
+  while (s.watch(o) == Fault::none && jiffies < 1000) ++jiffies;
+  EXPECT_EQ(jiffies + 1, 13);  // moving seen at the 9th jiffy (90 ms) + 40 ms
+}
+
+// A close given in the jiffy the opening valve first reports `moving` (a fast plant, a small
+// target): the valve goes on opening through the close's dead time and reports `open` for a moment
+// before it turns. Its opening showed an 80 ms dead time: that is healthy, not stuck open.
+TEST(FaultSupervisor, ACloseGivenAsTheValveStartsToOpenKeepsItsDeadTime) {
+  FaultSupervisor s = configured();
+  FaultSupervisor::Observation o;
+  o.command_in_force = ValveCommand::open;
+  for (int i = 1; i <= 8; ++i) ASSERT_EQ(s.watch(o), Fault::none) << i;  // closed through the dead time
+  o.command_in_force = ValveCommand::closed;
+  for (int i = 1; i <= 40; ++i) {
+    o.position = i <= 8 ? ValvePosition::moving : i <= 9 ? ValvePosition::open
+                 : i <= 17 ? ValvePosition::moving : ValvePosition::closed;
+    ASSERT_EQ(s.watch(o), Fault::none) << i;
+  }
+}
+
+// Parameters of a wide bore over a long fall: the stream's own landing steps the reading by more
+// than 5 % of Max between two samples, which is no glitch; a glitch beyond that still faults.
+TEST(FaultSupervisor, AStepAsLargeAsTheInstallationsOwnLandingIsNoSampleJump) {
+  Parameters p;
+  p.set(ParameterId::bore_mm, 100.0f);
+  p.set(ParameterId::fall_mm, 3000.0f);
+  FaultSupervisor s;
+  s.configure(p);
+  Fault f = Fault::none;
+  s.screen_sample(0.0f, 1.0f, true, f);
+  for (float counts : {4000.0f, 8000.0f, 12000.0f, 9000.0f}) {
+    EXPECT_FLOAT_EQ(s.screen_sample(counts, 1.0f, true, f), counts);
+    EXPECT_EQ(f, Fault::none);
+  }
+  for (int i = 0; i < 3; ++i) s.screen_sample(9000.0f + 40000.0f, 1.0f, true, f);
+  EXPECT_EQ(f, Fault::sample_jump);
+}
+
+}  // namespace
+}  // namespace dynweigh::firmware

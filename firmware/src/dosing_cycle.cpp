@@ -204,7 +204,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
 bool DosingCycle::delivered_nothing() const {
   const float target = float(result_.target_g);
   const float limit = kNothingDeliveredClass * model::oiml_r61_x1_limits(target).initial_verification_g;
-  return float(result_.final_g) <= limit;
+  return valve_could_deliver_ && float(result_.final_g) <= limit;
 }
 
 }  // namespace dynweigh::firmware

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dynweigh/model/beverloo.hpp"
 #include "dynweigh/model/platform_frequency.hpp"
 
 namespace dynweigh::firmware {
@@ -15,12 +16,24 @@ std::uint32_t jiffies_for(float ms, float jiffy_ms) {
 
 }  // namespace
 
+// The largest step the installation's own stream can put on the reading between two samples: its
+// impact force (the prior's full flow times the speed of the fall) arriving at once, on a platform
+// that rings up to twice a step. A long fall or a wide bore lands more than 5 % of Max at a stroke.
+float FaultSupervisor::landing_step_g(const Parameters& p) {
+  const float bore_m = p.get(ParameterId::bore_mm) / 1000.0f;
+  const model::BeverlooMaterial<float> material{0.58f, 1.5f, 0.0005f, p.get(ParameterId::density)};
+  const float flow_kg_s = model::beverloo_discharge_kg_s(material, kGravity, bore_m);
+  const float speed_m_s = std::sqrt(2.0f * kGravity * p.get(ParameterId::fall_mm) / 1000.0f);
+  return kLandingRingFactor * flow_kg_s * speed_m_s / kGravity * 1000.0f;
+}
+
 void FaultSupervisor::configure(const Parameters& p) {
   const float jiffy_ms = p.get(ParameterId::jiffy_ms);
   const float dead_ms = p.get(ParameterId::valve_dead_ms);
   const float stroke_ms = p.get(ParameterId::valve_stroke_ms);
   const float fall_ms = 1000.0f * std::sqrt(2.0f * p.get(ParameterId::fall_mm) / 1000.0f / kGravity);
   capacity_g_ = p.get(ParameterId::capacity_g);
+  outlier_bound_g_ = std::fmax(kOutlierFractionOfCapacity * capacity_g_, landing_step_g(p));
   stable_band_g_ = p.get(ParameterId::stable_band_g);
   jiffy_ms_ = jiffy_ms;
   configured_dead_ms_ = dead_ms;
@@ -56,7 +69,7 @@ void FaultSupervisor::reset() {
 
 float FaultSupervisor::screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault) {
   fault = Fault::none;
-  const float bound_counts = kOutlierFractionOfCapacity * capacity_g_ * counts_per_gram;
+  const float bound_counts = outlier_bound_g_ * counts_per_gram;
   if (!has_good_ || !(bound_counts > 0.0f) || std::fabs(raw_counts - good_counts_) <= bound_counts) {
     has_good_ = true;
     good_counts_ = raw_counts;
@@ -116,9 +129,17 @@ void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
     const bool dead_time_seen = timing_.slowest_leave_ms(other) < other_arrival_ms;
     leave_ms = dead_time_seen ? timing_.slowest_leave_ms(other) + kValveLeaveMarginMs : arrival_ms;
   } else {
-    // No stroke seen at all (a valve found open, feedback that echoes the command): the datasheet.
+    // No full stroke seen (a valve found open, feedback that echoes the command, a dose that closed
+    // before the valve was open): the datasheet's travel.
     arrival_ms = kValveTravelFactor * configured_shut_ms_ + kValveTravelMarginMs;
     leave_ms = configured_dead_ms_ + kValveLeaveMarginMs;
+  }
+  // A dead time the feedback has shown on any stroke from standstill (closed to half, a close given
+  // before the valve was open) is this valve's, whatever the datasheet says.
+  const D dead_seen = timing_.dead_times(own) > 0 ? own : other;
+  if (timing_.dead_times(dead_seen) > 0) {
+    leave_ms = timing_.slowest_dead_ms(dead_seen) + kValveLeaveMarginMs;
+    arrival_ms = std::fmax(arrival_ms, leave_ms + kValveArrivalMarginMs);
   }
   valve_start_jiffies_ = jiffies_for(leave_ms + delay_ms, jiffy_ms_);
   valve_travel_jiffies_ = jiffies_for(arrival_ms + delay_ms, jiffy_ms_);
@@ -127,8 +148,27 @@ void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
   early_leak_jiffies_ = jiffies_for(shut_ms + fall_ms_ + kEarlyLeakMarginMs, jiffy_ms_);
 }
 
+// A dose's valve had a chance to deliver once its feedback reported it open (or at the half the
+// fine feed asks for), or, where the feedback shows nothing, once it was commanded open for the
+// slower of the datasheet's and the measured time to open.
+void FaultSupervisor::follow_dose_opening(const Observation& o) {
+  if (!o.dose_running) {
+    dose_open_jiffies_ = 0;
+    dose_valve_opened_ = false;
+    return;
+  }
+  if (o.command_in_force == ValveCommand::closed) return;
+  if (dose_open_jiffies_ < 0xFFFFFFFFu) ++dose_open_jiffies_;
+  if (o.position == ValvePosition::open || o.position == ValvePosition::half) dose_valve_opened_ = true;
+}
+
+bool FaultSupervisor::dose_valve_could_deliver() const {
+  return dose_valve_opened_ || float(dose_open_jiffies_) * jiffy_ms_ >= valve_shut_ms();
+}
+
 Fault FaultSupervisor::watch_valve(const Observation& o) {
   timing_.observe(o.command_in_force, o.command_delay_ms, o.position);
+  follow_dose_opening(o);
   if (o.command_in_force != last_command_) {
     closed_by_dose_ = o.command_in_force == ValveCommand::closed && o.dose_running;
     last_command_ = o.command_in_force;

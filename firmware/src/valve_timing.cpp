@@ -7,7 +7,8 @@ bool is_end_position(ValvePosition p) { return p == ValvePosition::closed || p =
 
 void ValveTimingMonitor::forget() {
   tracking_ = false;
-  for (int d = 0; d < 2; ++d) next_[d] = count_[d] = 0;
+  timing_dead_ = false;
+  for (int d = 0; d < 2; ++d) next_[d] = count_[d] = dead_next_[d] = dead_count_[d] = 0;
 }
 
 void ValveTimingMonitor::start_stroke(ValveCommand command, float command_delay_ms) {
@@ -29,9 +30,15 @@ void ValveTimingMonitor::start_stroke(ValveCommand command, float command_delay_
 }
 
 void ValveTimingMonitor::observe(ValveCommand command, float command_delay_ms, ValvePosition position) {
+  // What the feedback shows in the jiffy of a new command is the old command's doing: a close that
+  // follows the opening's first `moving` at once leaves the opening's dead time timed.
+  time_dead(position);
+  if (position != ValvePosition::moving) rest_position_ = position;
+  last_position_ = position;
   if (command != last_command_) {
     last_command_ = command;
     start_stroke(command, command_delay_ms);
+    start_dead_time(command);
   }
   if (is_end_position(position)) end_position_ = position;
   if (!tracking_) return;
@@ -44,6 +51,44 @@ void ValveTimingMonitor::observe(ValveCommand command, float command_delay_ms, V
   } else if (position != from_ && position != ValvePosition::moving) {
     tracking_ = false;  // somewhere else (half): not this stroke
   }
+}
+
+namespace {
+ValvePosition position_of(ValveCommand command) {
+  return command == ValveCommand::open ? ValvePosition::open
+         : command == ValveCommand::half ? ValvePosition::half
+                                         : ValvePosition::closed;
+}
+int openness(ValvePosition p) { return p == ValvePosition::open ? 2 : p == ValvePosition::half ? 1 : 0; }
+}  // namespace
+
+// Timed from standstill only: a valve already moving (a close given mid-stroke) shows no dead time.
+void ValveTimingMonitor::start_dead_time(ValveCommand command) {
+  timing_dead_ = false;
+  const ValvePosition to = position_of(command);
+  if (last_position_ == ValvePosition::moving || rest_position_ == to) return;
+  timing_dead_ = true;
+  dead_age_ = 1;  // this jiffy, as a full stroke counts it
+  dead_direction_ = openness(to) > openness(rest_position_) ? opening : closing;
+}
+
+void ValveTimingMonitor::time_dead(ValvePosition position) {
+  if (!timing_dead_) return;
+  ++dead_age_;
+  if (position == rest_position_) return;
+  timing_dead_ = false;
+  // Straight to another position (limit switches only, an echo of the command): no dead time shown.
+  if (position != ValvePosition::moving) return;
+  const Direction d = dead_direction_;
+  dead_ms_[d][dead_next_[d]] = float(dead_age_) * jiffy_ms_ - delay_ms_;
+  dead_next_[d] = (dead_next_[d] + 1) % kMemory;
+  if (dead_count_[d] < kMemory) ++dead_count_[d];
+}
+
+float ValveTimingMonitor::slowest_dead_ms(Direction d) const {
+  float slowest = 0.0f;
+  for (std::uint32_t i = 0; i < dead_count_[d]; ++i) slowest = dead_ms_[d][i] > slowest ? dead_ms_[d][i] : slowest;
+  return slowest;
 }
 
 void ValveTimingMonitor::remember(Direction d) {

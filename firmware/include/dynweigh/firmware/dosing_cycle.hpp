@@ -31,7 +31,8 @@ class DosingCycle {
   // `nothing_delivered`: whatever the strategy, a dose whose certified fill is no more than its own
   // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) delivered
   // nothing a filling line can use: a silo run empty, a valve that let nothing through, while a
-  // strategy closed on its prior. It ends in a fault, never in a result.
+  // strategy closed on its prior. It ends in a fault, never in a result; unless the valve never had
+  // the time to open (valve_could_deliver): then the strategy closed too soon and the plant is sound.
   enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
   static constexpr float kNothingDeliveredClass = 5.0f;
 
@@ -64,6 +65,9 @@ class DosingCycle {
   float model_stroke_s() const { return model_.stroke_in_use_s_now(); }
   // What the valve's feedback has shown of its timing; the model's next dose times its close with it.
   void measured_valve_travel(float mean_s, std::uint32_t strokes) { model_.measured_valve_travel(mean_s, strokes); }
+  // Whether the valve was open long enough to deliver (the fault supervisor's judgement, each
+  // jiffy): a dose closed before its valve opened is no `nothing_delivered`, only a poor fill.
+  void valve_could_deliver(bool could) { valve_could_deliver_ = could; }
 
  private:
   void open_from_rest();
@@ -96,6 +100,7 @@ class DosingCycle {
   const LearningTable* learning_ = nullptr;
   LearningKey learning_key_;
   float start_weight_g_ = 0.0f;
+  bool valve_could_deliver_ = true;
   float last_prediction_g_ = 0.0f;
   std::uint32_t jiffies_ = 0;
   std::uint32_t settle_from_jiffy_ = 0;

@@ -6,6 +6,9 @@
 //   faster than anything on the scale can: the largest physical step is the stream's impact
 //   (about 1.2 kg for the 60 mm bore falling 1.2 m, 2.4 kg/s x 4.9 m/s) and the 12 Hz platform
 //   swings on it by at most F x omega x jiffy (about 0.9 kg per 10 ms), well inside 5 % of 50 kg.
+//   Where the installation's parameters say its stream lands harder (a wide bore, a long fall:
+//   twice the prior flow's impact force, as a lightly damped platform swings to twice a step), that
+//   is the limit instead.
 //   Such a sample is rejected and the last good value held. While a dose runs, kOutlierFaultCount
 //   in a row raise `sample_jump`; otherwise two consistent samples confirm a new level (a load
 //   placed on the scale), taken one jiffy late.
@@ -50,6 +53,7 @@ class FaultSupervisor {
  public:
   static constexpr float kOutlierFractionOfCapacity = 0.05f;
   static constexpr std::uint32_t kOutlierFaultCount = 3;
+  static constexpr float kLandingRingFactor = 2.0f;  // a step on a lightly damped platform swings to 2x
   static constexpr float kValveLeaveMarginMs = 40.0f;    // dead-time jitter, a feedback frame late
   static constexpr float kValveArrivalMarginMs = 30.0f;
   static constexpr float kValveArrivalMarginFraction = 0.05f;
@@ -79,6 +83,10 @@ class FaultSupervisor {
   // What the valve's feedback has shown of its timing (the model cutoff times its close with it).
   const ValveTimingMonitor& valve_timing() const { return timing_; }
 
+  // Whether the running dose's valve was open long enough to deliver: if not, a dose that closed
+  // before its valve opened delivered nothing through no fault of the plant (no `no_flow`).
+  bool dose_valve_could_deliver() const;
+
   // What the supervisor needs to know about one jiffy, after the sample was processed.
   struct Observation {
     ValveCommand command_in_force = ValveCommand::closed;  // the command sent last jiffy
@@ -95,7 +103,9 @@ class FaultSupervisor {
   Fault watch(const Observation& o);
 
  private:
+  static float landing_step_g(const Parameters& p);
   Fault watch_valve(const Observation& o);
+  void follow_dose_opening(const Observation& o);
   void set_valve_limits(ValveCommand command, float delay_ms);
   float valve_shut_ms() const;
   Fault watch_flow(const Observation& o);
@@ -104,6 +114,7 @@ class FaultSupervisor {
 
   // Limits.
   float capacity_g_ = 50000.0f;
+  float outlier_bound_g_ = 2500.0f;  // the outlier screen's step, grams
   float stable_band_g_ = 1.0f;
   float jiffy_ms_ = 10.0f;
   float configured_dead_ms_ = 30.0f;   // the datasheet's
@@ -133,6 +144,8 @@ class FaultSupervisor {
   float open_reference_g_ = 0.0f;  // the weight when the command in force was given
   bool reached_closed_ = false;    // the close in force was seen through to `closed`
   std::uint32_t uncommanded_jiffies_ = 0;  // reported moving since, with no new command
+  std::uint32_t dose_open_jiffies_ = 0;    // the running dose's valve commanded open (or half)
+  bool dose_valve_opened_ = false;         // ... and its feedback reported it there
 
   // Flow.
   bool flow_armed_ = false;

@@ -11,6 +11,11 @@
 // allows; the mean of the jiffies' midpoints is what the model cutoff times the close with. A stroke
 // that ends in the jiffy of its command times nothing: the feedback echoes the command, or the valve
 // was there already.
+//
+// The dead time alone is also timed on strokes that are not full (closed to half, half to closed, a
+// close given while the valve was still opening): from the command to the feedback's first `moving`
+// after it stood still. It does not depend on where the stroke goes, and a dose on a fast plant may
+// close before the valve ever reached `open`.
 #include <cstdint>
 
 #include "dynweigh/firmware/io.hpp"
@@ -28,7 +33,10 @@ class ValveTimingMonitor {
   void observe(ValveCommand command_in_force, float command_delay_ms, ValvePosition position);
   // The stroke under way took longer than a healthy one may: whenever it ends (a valve freed, the
   // plant replaced) it teaches nothing.
-  void abandon_stroke() { tracking_ = false; }
+  void abandon_stroke() {
+    tracking_ = false;
+    timing_dead_ = false;
+  }
 
   enum Direction : std::uint8_t { opening = 0, closing = 1 };
   std::uint32_t strokes(Direction d) const { return count_[d]; }
@@ -38,6 +46,10 @@ class ValveTimingMonitor {
   float slowest_leave_ms(Direction d) const;
   float slowest_arrival_ms(Direction d) const;
   float mean_arrival_ms(Direction d) const;
+  // The dead times timed so far in one direction (any stroke from standstill that showed `moving`),
+  // and the latest, ms from the command's acting (0 before the first).
+  std::uint32_t dead_times(Direction d) const { return dead_count_[d]; }
+  float slowest_dead_ms(Direction d) const;
 
  private:
   struct Stroke {
@@ -47,6 +59,8 @@ class ValveTimingMonitor {
   };
   void start_stroke(ValveCommand command, float command_delay_ms);
   void remember(Direction d);
+  void start_dead_time(ValveCommand command);
+  void time_dead(ValvePosition position);
 
   float jiffy_ms_ = 10.0f;
   ValveCommand last_command_ = ValveCommand::closed;
@@ -57,6 +71,15 @@ class ValveTimingMonitor {
   float delay_ms_ = 0.0f;
   std::uint32_t age_ = 0;  // jiffies since the command
   std::uint32_t leave_age_ = 0;
+  // Dead time: a command that set the valve in motion from where it stood still.
+  ValvePosition rest_position_ = ValvePosition::closed;  // the last position other than `moving`
+  ValvePosition last_position_ = ValvePosition::closed;
+  bool timing_dead_ = false;
+  std::uint32_t dead_age_ = 0;  // jiffies since the command
+  Direction dead_direction_ = opening;
+  float dead_ms_[2][kMemory] = {};
+  std::uint32_t dead_next_[2] = {};
+  std::uint32_t dead_count_[2] = {};
   Stroke strokes_[2][kMemory] = {};
   std::uint32_t next_[2] = {};
   std::uint32_t count_[2] = {};
