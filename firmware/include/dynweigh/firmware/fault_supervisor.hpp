@@ -22,14 +22,18 @@
 //   its feedback showed `moving`), and by the travel limit for the arrival: kValveTravelFactor x the
 //   other direction's arrival + kValveTravelMarginMs. With no stroke seen at all (a valve found
 //   open, feedback that echoes the command) the datasheet's: its dead time + kValveLeaveMarginMs to
-//   leave, and the travel limit on its dead time plus stroke. Opening, a valve still reporting
+//   leave, and the travel limit on its dead time plus stroke. A dead time the feedback showed on
+//   any stroke from standstill (closed to half, an opening closed before it was open) replaces the
+//   leave limit: the slowest seen + kValveLeaveMarginMs. Opening, a valve still reporting
 //   closed once the stream had time to land (the slower of the configured and the measured timing,
 //   the fall, a second) while the weight did not rise, or stuck mid-stroke past the arrival limit:
 //   `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as missing
 //   feedback (open-loop replays), not a fault. A valve that closed and then reports moving with no
 //   command is stuck open after the travel limit.
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
-//   (at the start or later: a silo run empty).
+//   (at the start or later: a silo run empty). dose_valve_could_deliver() tells the dosing cycle
+//   whether a dose that certified next to nothing had its valve open at all (feedback at open or
+//   half, or commanded open for the slower valve time): only then is it `no_flow`.
 // - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
 //   rate that moves them by many counts in that time, and for longer than half a period of the
 //   platform (`platform_hz`): at a crest of its ringing a live reading can stand still that long.
