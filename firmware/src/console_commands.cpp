@@ -20,7 +20,7 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_starttestdata},
     {"readtestdata", "readtestdata [info]  print the last cycle: <jiffy> <raw> <filtered> <marker>; info: whose",
      &Indicator::command_readtestdata},
-    {"dose", "dose <grams> [model|preact|twostage|learn]  one dosing cycle to the target",
+    {"dose", "dose <grams> [model|preact|twostage|learn|pac|flowpreact]  one dosing cycle to the target",
      &Indicator::command_dose},
     {"tare", "tare  take the present weight as tare", &Indicator::command_tare},
     {"zero", "zero  at standstill: zero-setting within 4 % of Max, else adjustment (then cal) (persists)",
@@ -189,6 +189,7 @@ void Indicator::command_dose(const Arguments& args) {
   if (filtered_weight_g() + tare_g_ + float(target) > p.get(ParameterId::capacity_g)) {
     return error(2, "target exceeds the scale's capacity");
   }
+  dosing_.restore_baselines(settings_.baselines);
   dosing_.start(std::int32_t(target), strategy, &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();
