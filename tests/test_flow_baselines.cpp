@@ -113,5 +113,22 @@ void expect_sound_tiny_fill(const char* strategy) {
 TEST(FlowBaselinesTinyTarget, PacOpensOnceAndClosesAtOnce) { expect_sound_tiny_fill("pac"); }
 TEST(FlowBaselinesTinyTarget, FlowPreactOpensOnceAndClosesAtOnce) { expect_sound_tiny_fill("flowpreact"); }
 
+// What a fill taught them is in the settings (the record a restart reads); `learn reset` forgets it
+// with the learn strategy's table, as for a new material.
+TEST(FlowBaselinesLearning, AFillTeachesTheSettingsAndLearnResetForgetsIt) {
+  testing::ConsoleSession c;
+  c.idle(150);
+  ASSERT_NE(c.run({"dose 2000 pac"}).find("RESULT"), std::string::npos);
+  ASSERT_NE(c.run({"dose 6000 flowpreact"}).find("RESULT"), std::string::npos);
+  const firmware::BaselineLearning& learned = c.session().indicator().settings().baselines;
+  EXPECT_EQ(learned.pac.blind.fills, 1);
+  EXPECT_EQ(learned.flowpreact.fills, 1);  // 6 kg: closed on the measured flow
+  EXPECT_EQ(c.run({"learn reset"}), "OK\n");
+  const firmware::BaselineLearning& forgotten = c.session().indicator().settings().baselines;
+  EXPECT_EQ(forgotten.pac.blind.fills, 0);
+  EXPECT_EQ(forgotten.flowpreact.fills, 0);
+  EXPECT_EQ(forgotten.flowpreact.blind.fills, 0);
+}
+
 }  // namespace
 }  // namespace dynweigh::tools

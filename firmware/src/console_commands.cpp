@@ -33,7 +33,8 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_param},
     {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
     {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
-    {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them all (persists)",
+    {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them and what pac and flowpreact learned "
+     "(persists)",
      &Indicator::command_learn},
     {"estimates", "estimates  what the last model dose measured: first impact, dead time, flow, impulse",
      &Indicator::command_estimates},
@@ -311,6 +312,7 @@ void Indicator::command_learn(const Arguments& args) {
   if (args.count == 2 && std::strcmp(args.word[1], "reset") == 0) {
     if (reject_if_busy()) return;
     settings_.learning.reset();
+    settings_.baselines = BaselineLearning{};
     settings_changed_ = true;
     return ok();
   }
