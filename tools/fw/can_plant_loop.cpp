@@ -122,6 +122,7 @@ int run_can_plant(const CanPlantOptions& options) {
     CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
     board.send_heartbeat(hal::can::kNmtBootUp);
     while (!stop_requested()) {
+      plc.before_jiffy();
       const CanBoard::Event event = board.poll(100);
       if (event == CanBoard::Event::closed) throw std::runtime_error(link->name() + " closed");
       if (ran_a_jiffy(event)) plc.after_jiffy(indicator, board.last_outputs());
@@ -153,6 +154,7 @@ int run_can_plant(const CanPlantOptions& options) {
   CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
   board.send_heartbeat(hal::can::kNmtBootUp);
   while (!stop_requested()) {
+    plc.before_jiffy();
     const CanBoard::Event event = board.poll(100);
     if (ran_a_jiffy(event)) plc.after_jiffy(indicator, board.last_outputs());
     if (event == CanBoard::Event::closed) {

@@ -85,6 +85,7 @@ int run(const Options& options) {
     for (bool busy = false; !tools::stop_requested();) {
       if (!busy && !options.realtime) console.wait_for_input(10);
       stopwatch.start();
+      plc.before_jiffy();
       const firmware::Outputs outputs = step(port);
       busy = outputs.busy;
       plc.after_jiffy(session.indicator(), outputs);
@@ -100,18 +101,27 @@ int run(const Options& options) {
 
   // stdin, read without blocking the loop. In lockstep the plant's time stands still while the
   // indicator is idle and no line has come (the loop waits on stdin, but a signal ends the wait);
-  // in real time the plant goes on and stdin is only polled.
-  // With --modbus the loop must go on for the PLC: an idle wait is one jiffy at most, and the end
-  // of stdin ends nothing (a signal does).
+  // in real time the plant goes on and stdin is only polled. With --modbus a PLC command is work
+  // too: the idle loop looks for a line or a command every 10 ms, and the end of stdin ends
+  // nothing (a signal does).
   hal::host::StreamLineReader lines(STDIN_FILENO, tools::stop_requested);
-  const int idle_wait_ms = options.realtime ? 0 : plc.active() ? 10 : -1;
+  const bool lockstep_idle_waits = !options.realtime && plc.active();
+  std::optional<std::string> early_line;  // a line the idle wait brought, for the next jiffy
+  bool input_ended = false;
   hal::host::ScriptedConsole console(
       [&](std::string& line) {
-        switch (lines.next(line, idle_wait_ms)) {
+        if (early_line) {
+          line = *early_line;
+          early_line.reset();
+          return hal::host::ScriptedConsole::Poll::line;
+        }
+        if (input_ended) return hal::host::ScriptedConsole::Poll::ended;
+        switch (lines.next(line, options.realtime || plc.active() ? 0 : -1)) {
           case hal::host::StreamLineReader::Result::line: return hal::host::ScriptedConsole::Poll::line;
           case hal::host::StreamLineReader::Result::nothing_yet: return hal::host::ScriptedConsole::Poll::nothing_yet;
           case hal::host::StreamLineReader::Result::ended: break;
         }
+        input_ended = true;
         return hal::host::ScriptedConsole::Poll::ended;
       },
       [](const char* data, std::size_t n) {
@@ -119,17 +129,30 @@ int run(const Options& options) {
         std::fflush(stdout);
       });
   hal::ConsolePort& port = plc.attach(console);
+  bool busy = false;
   while (!tools::stop_requested()) {
+    if (lockstep_idle_waits && !busy && !early_line && !plc.command_waiting()) {
+      std::string line;
+      const auto got = input_ended ? hal::host::StreamLineReader::Result::ended : lines.next(line, 10);
+      if (got == hal::host::StreamLineReader::Result::line) {
+        early_line = line;
+      } else {
+        if (got == hal::host::StreamLineReader::Result::ended) {
+          input_ended = true;
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        if (!plc.command_waiting()) continue;
+      }
+    }
     stopwatch.start();
+    plc.before_jiffy();
     const firmware::Outputs outputs = step(port);
     plc.after_jiffy(session.indicator(), outputs);
     if (csv) csv->write(session.last_row());
     stopwatch.stop();
+    busy = outputs.busy;
     console.set_indicator_busy(outputs.busy);
-    if (console.input_ended() && !outputs.busy) {
-      if (!plc.active()) return 0;
-      if (!options.realtime) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    if (console.input_ended() && !outputs.busy && !plc.active()) return 0;
     clock.wait_next_jiffy();
   }
   return 128 + tools::stop_signal();

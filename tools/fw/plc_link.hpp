@@ -45,6 +45,10 @@ class PlcLink {
   bool active() const { return !servers_.empty(); }
   // The console port the board should use: the operator's console with the PLC's commands beside it.
   hal::ConsolePort& attach(hal::ConsolePort& operator_console);
+  void before_jiffy() {
+    if (console_) console_->before_jiffy();
+  }
+  bool command_waiting() { return console_ && console_->command_waiting(); }
   // After every jiffy, with the board's outputs.
   void after_jiffy(const firmware::Indicator& indicator, const firmware::Outputs& outputs) {
     if (console_) console_->after_jiffy(indicator, outputs);

@@ -181,6 +181,11 @@ void PlcConsole::watch(const firmware::Indicator& indicator) {
 
 void PlcConsole::after_jiffy(const firmware::Indicator& indicator, const firmware::Outputs& outputs) {
   fill_registers(indicator, outputs);
+  exchange();
+  watch(indicator);
+}
+
+void PlcConsole::exchange() {
   const bool between_lines = operator_typed_ == 0 && !inject_;
   PlcMailbox::Exchange exchange;
   if (mailbox_.try_exchange(snapshot_, between_lines && awaited_count_ == 0, between_lines, exchange)) {
@@ -193,7 +198,6 @@ void PlcConsole::after_jiffy(const firmware::Indicator& indicator, const firmwar
       inject_ = true;
     }
   }
-  watch(indicator);
 }
 
 }  // namespace dynweigh::modbus

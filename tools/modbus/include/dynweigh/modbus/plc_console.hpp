@@ -27,9 +27,14 @@ class PlcConsole final : public hal::ConsolePort {
   // While a PLC command runs its answer must come through even when nobody reads the console.
   std::size_t writable() const override;
 
-  // After every jiffy: the registers from the indicator's outputs, the PLC's next command, the
-  // watchdog (param plc_watchdog_ms) over a PLC's dose.
+  // Before every jiffy: the PLC's next command, if the console path can take it now (it goes to
+  // the indicator in this jiffy).
+  void before_jiffy() { exchange(); }
+  // After every jiffy: the registers from the indicator's outputs, published; the watchdog (param
+  // plc_watchdog_ms) over a PLC's dose.
   void after_jiffy(const firmware::Indicator& indicator, const firmware::Outputs& outputs);
+  // A PLC command waits for the console path (a loop that idles may not).
+  bool command_waiting() { return inject_ || mailbox_.command_waiting(); }
 
   bool watchdog_fired() const { return watchdog_fired_; }
   std::uint32_t requests() const { return requests_; }
@@ -50,6 +55,7 @@ class PlcConsole final : public hal::ConsolePort {
   void answer_line(const char* line);
   void fill_registers(const firmware::Indicator& indicator, const firmware::Outputs& outputs);
   void watch(const firmware::Indicator& indicator);
+  void exchange();
 
   hal::ConsolePort& operator_;
   PlcMailbox& mailbox_;

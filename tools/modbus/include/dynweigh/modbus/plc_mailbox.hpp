@@ -26,6 +26,12 @@ class PlcMailbox {
   };
   bool try_exchange(const LoopSnapshot& snapshot, bool take_any, bool take_abort, Exchange& exchange);
 
+  // A command waits for the loop (true too when a server holds the lock: ask again next time).
+  bool command_waiting() {
+    const std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+    return !lock.owns_lock() || waiting_;
+  }
+
   std::uint32_t requests() {
     const std::lock_guard<std::mutex> lock(mutex_);
     return requests_;
