@@ -20,7 +20,7 @@ import tempfile
 import threading
 import time
 
-from targets_common import SKIP, fail, key_values, field
+from targets_common import SKIP, fail, field, free_udp_ports, key_values
 
 try:
     from pymodbus.client import ModbusSerialClient, ModbusTcpClient
@@ -247,6 +247,42 @@ def case_rtu_dose(args, tmp):
     finally:
         socat.terminate()
         socat.wait(timeout=5)
+
+
+def case_can_dose(args, tmp):
+    """The same PLC dose with the plant outside, on the CAN link (dynweigh plant over udp)."""
+    if not args.dynweigh:
+        fail("--case can_dose needs --dynweigh")
+    plant_port, fw_port = free_udp_ports(2)
+    port = free_tcp_port()
+    plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}", "--scene",
+                              "default", "--seed", "1", "--wait", "20", "--timeout", "20"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        fw = Firmware(args.fw, ["--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}", "--modbus",
+                                f"tcp:127.0.0.1:{port}"])
+        fw.wait_serving()
+        plc = ModbusTcpClient("127.0.0.1", port=port)
+        if not plc.connect():
+            fail("cannot connect")
+        start_dose(plc, 1, TARGET_G)
+        regs, command, _ = wait_for_result(plc, 1, 0)
+        plc.close()
+        result_line = fw.wait_for_line(lambda l: l.startswith("RESULT "), 10, "RESULT")
+        fw.stop()
+        plant_out, _ = plant.communicate(timeout=20)
+    finally:
+        if plant.poll() is None:
+            plant.kill()
+            plant.wait()
+    truth = key_values(plant_out)
+    true_g = float(truth["final_static_kg"]) * 1000.0
+    final_g = int(field(result_line, "final"))
+    print(f"registers {regs}\nconsole {result_line}\nplant truth {true_g:.1f} g")
+    if command != 0 or int32(regs, FINAL) != final_g * 10 or uint32(regs, TIME) != int(field(result_line, "time")):
+        fail("the registers disagree with the console's RESULT")
+    if abs(true_g - final_g) > 5.0:
+        fail(f"the certified final {final_g} g disagrees with the plant's truth {true_g:.1f} g")
 
 
 def wait_for_state(client, state, timeout_s, register=STATE):
@@ -499,11 +535,12 @@ def measure(args, tmp):
         print(f"{key}={summary.get(key)}")
 
 
-CASES = {"tcp_dose": case_tcp_dose, "rtu_dose": case_rtu_dose, "disconnect_mid_dose": case_disconnect_mid_dose,
+CASES = {"tcp_dose": case_tcp_dose, "can_dose": case_can_dose, "rtu_dose": case_rtu_dose, "disconnect_mid_dose": case_disconnect_mid_dose,
          "watchdog": case_watchdog, "bad_requests": case_bad_requests, "measure": measure}
 
 a = argparse.ArgumentParser()
 a.add_argument("--fw", required=True)
+a.add_argument("--dynweigh", help="the dynweigh tool (--case can_dose: its plant)")
 a.add_argument("--case", required=True, choices=sorted(CASES))
 args = a.parse_args()
 with tempfile.TemporaryDirectory() as scratch:

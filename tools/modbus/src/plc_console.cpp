@@ -49,9 +49,9 @@ bool PlcConsole::plc_dose_running() const {
 
 std::size_t PlcConsole::read(char* destination, std::size_t capacity) {
   if (inject_) {
-    inject_ = false;
     const std::size_t n = std::strlen(inject_line_);
-    if (n + 1 > capacity) return 0;
+    if (n + 1 > capacity) return 0;  // the board's buffer is smaller than a line: the next read takes it
+    inject_ = false;
     std::memcpy(destination, inject_line_, n);
     destination[n] = '\n';
     const bool dose = inject_origin_ == Origin::plc && inject_command_.command == PlcCommand::dose;
