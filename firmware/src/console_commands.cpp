@@ -33,6 +33,7 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_param},
     {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
     {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
+    {"abort", "abort  stop the dose, test cycle or zero/cal in progress: valve closed at once", &Indicator::command_abort},
     {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them and what pac and flowpreact learned "
      "(persists)",
      &Indicator::command_learn},
@@ -304,6 +305,21 @@ void Indicator::command_clearfault(const Arguments& args) {
   stale_jiffies_ = 0;
   supervisor_.reset();  // a cause still present is found again from scratch
   filter_.restart();
+  manual_valve_ = ValveCommand::closed;
+  ok();
+}
+
+// The running command that abort cuts short answers ERR 3 aborted, before abort's own OK.
+void Indicator::command_abort(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: abort");
+  if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
+  if (dose_command_pending_ || adjustment_.kind != Adjustment::Kind::none) {
+    dose_command_pending_ = false;
+    adjustment_.kind = Adjustment::Kind::none;
+    error(3, "aborted");
+  }
+  test_.active = false;
+  test_.scheduled = false;
   manual_valve_ = ValveCommand::closed;
   ok();
 }
