@@ -18,7 +18,7 @@ sim::Scene scene_with_silo(double fill_kg) {
 // Each strategy doses from the empty silo in turn, `clearfault` between: a named fault, the valve
 // closed, the fault latched in `status`, and never a result.
 void expect_no_flow_from(ConsoleSession& c) {
-  for (const char* strategy : {"model", "learn", "preact", "twostage"}) {
+  for (const char* strategy : {"model", "learn", "preact", "twostage", "pac", "flowpreact"}) {
     SCOPED_TRACE(strategy);
     const std::string answer = c.run({std::string("dose 3000 ") + strategy});
     EXPECT_EQ(answer, "ERR 4 fault no_flow\n");

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "dynweigh/firmware/persistent_settings.hpp"
 
 namespace dynweigh::firmware {
@@ -49,6 +52,58 @@ TEST(PersistentSettings, BlankStoreIsNotASettingsRecord) {
 TEST(Crc32, MatchesTheStandardCheckValue) {
   const char* check = "123456789";
   EXPECT_EQ(crc32(reinterpret_cast<const std::uint8_t*>(check), 9), 0xCBF43926u);
+}
+
+}  // namespace
+}  // namespace dynweigh::firmware
+
+namespace dynweigh::firmware {
+namespace {
+
+BaselineLearning learned_baselines() {
+  BaselineLearning b;
+  b.pac.spill = {180.0f, 12.0f, 40.0f, -3.0f, 2.0f, 7};
+  b.pac.blind = {2400.0f, -90.0f, 1e4f, -500.0f, 300.0f, 3};
+  b.flowpreact.lag_s = 0.21f;
+  b.flowpreact.fills = 5;
+  b.flowpreact.blind = {2300.0f, -80.0f, 2e4f, -100.0f, 200.0f, 2};
+  return b;
+}
+
+TEST(PersistentSettings, RoundTripsWhatThePacAndFlowPreactBaselinesLearned) {
+  PersistentSettings s = sample_settings();
+  s.baselines = learned_baselines();
+  std::uint8_t record[kSettingsRecordSize];
+  ASSERT_EQ(encode_settings(s, record, sizeof record), kSettingsRecordSize);
+  PersistentSettings decoded;
+  ASSERT_TRUE(decode_settings(record, sizeof record, decoded));
+  EXPECT_FLOAT_EQ(decoded.baselines.pac.spill.theta1, 180.0f);
+  EXPECT_FLOAT_EQ(decoded.baselines.pac.spill.theta2, 12.0f);
+  EXPECT_FLOAT_EQ(decoded.baselines.pac.spill.p12, -3.0f);
+  EXPECT_EQ(decoded.baselines.pac.spill.fills, 7);
+  EXPECT_FLOAT_EQ(decoded.baselines.pac.blind.theta2, -90.0f);
+  EXPECT_FLOAT_EQ(decoded.baselines.flowpreact.lag_s, 0.21f);
+  EXPECT_EQ(decoded.baselines.flowpreact.fills, 5);
+  EXPECT_FLOAT_EQ(decoded.baselines.flowpreact.blind.theta1, 2300.0f);
+}
+
+// A law no learning produces (its covariance not positive definite, a value not finite, a lag out of
+// reason) is dropped on reading, the rest of the record kept: the strategy starts from its prior.
+TEST(PersistentSettings, ALearnedBaselineLawThatIsNoLawIsDropped) {
+  PersistentSettings s = sample_settings();
+  s.baselines = learned_baselines();
+  s.baselines.pac.spill.p12 = 100.0f;  // p12^2 > p11 p22
+  s.baselines.pac.blind.theta1 = std::numeric_limits<float>::infinity();
+  s.baselines.flowpreact.lag_s = 1e9f;
+  std::uint8_t record[kSettingsRecordSize];
+  ASSERT_EQ(encode_settings(s, record, sizeof record), kSettingsRecordSize);
+  PersistentSettings decoded;
+  ASSERT_TRUE(decode_settings(record, sizeof record, decoded));
+  EXPECT_EQ(decoded.baselines.pac.spill.fills, 0);
+  EXPECT_EQ(decoded.baselines.pac.blind.fills, 0);
+  EXPECT_EQ(decoded.baselines.flowpreact.fills, 0);
+  EXPECT_EQ(decoded.baselines.flowpreact.blind.fills, 2);  // intact: kept
+  EXPECT_FLOAT_EQ(decoded.parameters.get(ParameterId::fall_mm), 1500.0f);
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_starttestdata},
     {"readtestdata", "readtestdata [info]  print the last cycle: <jiffy> <raw> <filtered> <marker>; info: whose",
      &Indicator::command_readtestdata},
-    {"dose", "dose <grams> [model|preact|twostage|learn]  one dosing cycle to the target",
+    {"dose", "dose <grams> [model|preact|twostage|learn|pac|flowpreact]  one dosing cycle to the target",
      &Indicator::command_dose},
     {"tare", "tare  take the present weight as tare", &Indicator::command_tare},
     {"zero", "zero  at standstill: zero-setting within 4 % of Max, else adjustment (then cal) (persists)",
@@ -33,7 +33,9 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_param},
     {"valve", "valve <0|1|2>  manual valve: closed, half, open (when idle)", &Indicator::command_valve},
     {"clearfault", "clearfault  clear a latched fault", &Indicator::command_clearfault},
-    {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them all (persists)",
+    {"abort", "abort  stop the dose, test cycle or zero/cal in progress: valve closed at once", &Indicator::command_abort},
+    {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them and what pac and flowpreact learned "
+     "(persists)",
      &Indicator::command_learn},
     {"estimates", "estimates  what the last model dose measured: first impact, dead time, flow, impulse",
      &Indicator::command_estimates},
@@ -189,6 +191,7 @@ void Indicator::command_dose(const Arguments& args) {
   if (filtered_weight_g() + tare_g_ + float(target) > p.get(ParameterId::capacity_g)) {
     return error(2, "target exceeds the scale's capacity");
   }
+  dosing_.restore_baselines(settings_.baselines);
   dosing_.start(std::int32_t(target), strategy, &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();
@@ -306,10 +309,26 @@ void Indicator::command_clearfault(const Arguments& args) {
   ok();
 }
 
+// The running command that abort cuts short answers ERR 3 aborted, before abort's own OK.
+void Indicator::command_abort(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: abort");
+  if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
+  if (dose_command_pending_ || adjustment_.kind != Adjustment::Kind::none) {
+    dose_command_pending_ = false;
+    adjustment_.kind = Adjustment::Kind::none;
+    error(3, "aborted");
+  }
+  test_.active = false;
+  test_.scheduled = false;
+  manual_valve_ = ValveCommand::closed;
+  ok();
+}
+
 void Indicator::command_learn(const Arguments& args) {
   if (args.count == 2 && std::strcmp(args.word[1], "reset") == 0) {
     if (reject_if_busy()) return;
     settings_.learning.reset();
+    settings_.baselines = BaselineLearning{};
     settings_changed_ = true;
     return ok();
   }

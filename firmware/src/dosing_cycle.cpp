@@ -23,6 +23,8 @@ void DosingCycle::configure(const Parameters& p) {
   jiffy_s_ = p.get(ParameterId::jiffy_ms) / 1000.0f;
   preact_g_ = p.get(ParameterId::preact_g);
   two_stage_.configure(p);
+  pac_.configure(p);
+  flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
@@ -55,6 +57,8 @@ void DosingCycle::open_from_rest() {
   start_weight_g_ = standstill_.mean();
   model_.start(start_weight_g_);
   two_stage_.start(float(result_.target_g));
+  pac_.start(float(result_.target_g));
+  flow_preact_.start(float(result_.target_g));
   valve_ = ValveCommand::open;
 }
 
@@ -102,6 +106,20 @@ bool DosingCycle::decide_twostage(float filtered_weight_g) {
   if (wanted == ValveCommand::closed) return true;
   valve_ = wanted;
   return false;
+}
+
+bool DosingCycle::decide_flow_baseline(float filtered_weight_g) {
+  const float filled_g = filtered_weight_g - start_weight_g_;
+  const bool pac = result_.strategy == DosingStrategy::pac;
+  const CloseDecision d = pac ? pac_.step(filled_g) : flow_preact_.step(filled_g);
+  last_prediction_g_ = pac ? pac_.prediction_g() : flow_preact_.prediction_g();
+  // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
+  if (d.close && !subjiffy_) return d.fraction < 0.5f;
+  if (d.close) {
+    const long delay = std::lround(d.fraction * jiffy_s_ * 1e4f);
+    valve_delay_100us_ = std::uint8_t(delay > 99 ? 99 : delay);
+  }
+  return d.close;
 }
 
 void DosingCycle::close_valve(float settle_delay_s) {
@@ -176,6 +194,10 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
       case DosingStrategy::twostage:
         close = decide_twostage(filtered_weight_g);
         break;
+      case DosingStrategy::pac:
+      case DosingStrategy::flowpreact:
+        close = decide_flow_baseline(filtered_weight_g);
+        break;
     }
     if (close) {
       close_valve(model_.settle_delay_s());
@@ -192,6 +214,8 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     phase_ = Phase::idle;
     if (delivered_nothing()) return Outcome::nothing_delivered;  // teaches nothing
     if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
+    if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
+    if (result_.strategy == DosingStrategy::flowpreact) flow_preact_.learn(float(result_.final_g));
     return Outcome::certified;
   }
   if (float(jiffies_ - result_.cutoff_jiffy) * jiffy_s_ > settle_limit_s_) {

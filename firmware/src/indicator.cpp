@@ -250,6 +250,14 @@ void Indicator::advance_dose() {
     settings_.parameters.set(ParameterId::twostage_coarse_g, dosing_.two_stage().coarse_g());
     settings_changed_ = true;
   }
+  if (r.strategy == DosingStrategy::pac) {
+    settings_.baselines.pac = dosing_.pac().learned();
+    settings_changed_ = true;
+  }
+  if (r.strategy == DosingStrategy::flowpreact) {
+    settings_.baselines.flowpreact = dosing_.flow_preact().learned();
+    settings_changed_ = true;
+  }
   console_.write("RESULT target=");
   console_.write_int(r.target_g);
   console_.write(" final=");

@@ -56,6 +56,8 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"echo", "echo what is typed on the console: 1 on, 0 off (scripts)", 0, 1, 0, nullptr, 0},
     {"twostage_coarse_g", "twostage strategy: the reading's rise from the switch to the settled fine feed, "
      "adapted after each fill, g", 0, 100000, 1500, nullptr, 0},
+    {"plc_watchdog_ms", "abort a PLC's dose after this long without a Modbus request, ms; 0: off", 0, 600000,
+     0, nullptr, 0},
 };
 
 // The longest text write_decimal(value, 3) gives for a value in [minimum, maximum].

@@ -7,7 +7,8 @@ namespace dynweigh::firmware {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
-constexpr std::uint16_t kVersion = 3;  // 2: the learning table; 3: the zero in whole counts
+// 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned
+constexpr std::uint16_t kVersion = 4;
 
 void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
@@ -29,6 +30,57 @@ float get_f32(const std::uint8_t* p) {
   return f;
 }
 
+void put_rls(std::uint8_t* p, const TwoParameterRls::State& s) {
+  put_f32(p, s.theta1);
+  put_f32(p + 4, s.theta2);
+  put_f32(p + 8, s.p11);
+  put_f32(p + 12, s.p12);
+  put_f32(p + 16, s.p22);
+  p[20] = std::uint8_t(s.fills);
+  p[21] = std::uint8_t(s.fills >> 8);
+}
+
+// A law no learning can produce (not finite, its covariance not positive definite) is dropped: the
+// strategy starts from its prior.
+TwoParameterRls::State get_rls(const std::uint8_t* p) {
+  TwoParameterRls::State s;
+  s.theta1 = get_f32(p);
+  s.theta2 = get_f32(p + 4);
+  s.p11 = get_f32(p + 8);
+  s.p12 = get_f32(p + 12);
+  s.p22 = get_f32(p + 16);
+  s.fills = std::uint16_t(p[20] | (p[21] << 8));
+  return s.fills > 0 && TwoParameterRls::sane(s) ? s : TwoParameterRls::State{};
+}
+
+void put_baselines(std::uint8_t* p, const BaselineLearning& b) {
+  put_rls(p, b.pac.spill);
+  put_rls(p + kRlsStateBytes, b.pac.blind);
+  std::uint8_t* f = p + 2 * kRlsStateBytes;
+  put_f32(f, b.flowpreact.lag_s);
+  f[4] = std::uint8_t(b.flowpreact.fills);
+  f[5] = std::uint8_t(b.flowpreact.fills >> 8);
+  put_rls(f + 8, b.flowpreact.blind);
+}
+
+// A lag beyond 10 s is no flowpreact lag.
+constexpr float kLagLimitS = 10.0f;
+
+BaselineLearning get_baselines(const std::uint8_t* p) {
+  BaselineLearning b;
+  b.pac.spill = get_rls(p);
+  b.pac.blind = get_rls(p + kRlsStateBytes);
+  const std::uint8_t* f = p + 2 * kRlsStateBytes;
+  b.flowpreact.lag_s = get_f32(f);
+  b.flowpreact.fills = std::uint16_t(f[4] | (f[5] << 8));
+  if (b.flowpreact.fills == 0 || !(std::fabs(b.flowpreact.lag_s) <= kLagLimitS)) {
+    b.flowpreact.lag_s = 0.0f;
+    b.flowpreact.fills = 0;
+  }
+  b.flowpreact.blind = get_rls(f + 8);
+  return b;
+}
+
 }  // namespace
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
@@ -41,7 +93,8 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
 }
 
 // Layout, little-endian: magic u32, version u16, parameter count u16, length u32, crc u32 (over
-// everything after it), zero i32, zero fraction f32, span f32, parameters f32 each, learning table.
+// everything after it), zero i32, zero fraction f32, span f32, parameters f32 each, learning table,
+// the baselines' learned laws.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity) {
   if (capacity < kSettingsRecordSize) return 0;
   std::memset(out, 0, kSettingsRecordSize);
@@ -70,6 +123,7 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
     p[8] = std::uint8_t(e.fills);
     p[9] = std::uint8_t(e.fills >> 8);
   }
+  put_baselines(table + kLearningEntryBytes * LearningTable::kEntries, settings.baselines);
   put_u32(out + 12, crc32(out + 16, kSettingsRecordSize - 16) ^ crc32(out, 12));
   return kSettingsRecordSize;
 }
@@ -112,6 +166,7 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
     const bool reachable = std::fabs(e.correction_g) <= LearningTable::kMaximumStepG * float(e.fills);
     if (!e.used || !std::isfinite(e.correction_g) || !reachable) e = LearningTable::Entry{};
   }
+  decoded.baselines = get_baselines(table + kLearningEntryBytes * LearningTable::kEntries);
   settings = decoded;
   return true;
 }

@@ -206,7 +206,7 @@ int run_bench_command(int argc, char** argv) {
     if (std::string(argv[i]) == "--sim") return run_sim_bench(argc, argv);
 #endif
   }
-  std::string strategies = "model,learn,preact,twostage,twostage-dyn,oracle,oracle-scale";
+  std::string strategies = "model,learn,preact,twostage,twostage-dyn,pac,flowpreact,oracle,oracle-scale";
   std::string scene_list, targets = "500,2000,5000,10000,15000", csv, png, journal;
   std::uint32_t seeds = 50, fills = 6;
   std::string plants;
@@ -216,8 +216,8 @@ int run_bench_command(int argc, char** argv) {
                "by the plant's true mass. `--step`: Google Benchmark of Indicator::step. `--sim`: the plant's\n"
                "speed and accuracy per scene."};
   app.add_option("--strategies", strategies,
-                 "model,learn,preact,twostage,twostage-dyn,oracle,oracle-scale (oracle: reads the plant's present "
-                 "truth; oracle-scale: only what has landed, as a perfect scale)")
+                 "model,learn,preact,twostage,twostage-dyn,pac,flowpreact,oracle,oracle-scale (oracle: reads the "
+                 "plant's present truth; oracle-scale: only what has landed, as a perfect scale)")
       ->capture_default_str();
   app.add_option("--scenes", scene_list, "scenes and scenarios (default: every dosing scene, geometry-off-15, "
                                           "material-change)");

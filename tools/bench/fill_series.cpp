@@ -23,8 +23,9 @@ constexpr std::uint64_t kTrialSeedBase = 900000;      // the engineer's trial fi
 constexpr std::uint32_t kTrialFills = 5;
 constexpr std::uint32_t kWarmUpFills = 5;             // adaptive strategies learn before we measure
 
-const char* const kNames[] = {"model", "preact", "twostage", "twostage-dyn", "oracle", "learn", "oracle-scale"};
-static_assert(std::size(kNames) == static_cast<std::size_t>(BenchStrategy::oracle_scale) + 1,
+const char* const kNames[] = {"model",        "preact", "twostage",  "twostage-dyn", "oracle",
+                              "learn",        "oracle-scale", "pac", "flowpreact"};
+static_assert(std::size(kNames) == static_cast<std::size_t>(BenchStrategy::flowpreact) + 1,
               "one name per BenchStrategy, in its order");
 
 // oracle-scale's landing rate: the mean over the last second (or since the stream landed), like
@@ -65,6 +66,8 @@ const char* firmware_strategy_word(BenchStrategy strategy) {
     case BenchStrategy::twostage:
     case BenchStrategy::twostage_dyn: return "twostage";
     case BenchStrategy::learn: return "learn";
+    case BenchStrategy::pac: return "pac";
+    case BenchStrategy::flowpreact: return "flowpreact";
     default: return "model";
   }
 }
@@ -338,7 +341,9 @@ SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::u
   firmware::PersistentSettings settings = series_settings(spec, scenario);
   const bool two_stage = is_two_stage(spec.strategy);
   if (spec.strategy == BenchStrategy::preact || two_stage) tune_preact(scenario, spec.strategy, spec.target_g, settings);
-  if (two_stage || spec.strategy == BenchStrategy::learn) {
+  const bool learns_by_itself = spec.strategy == BenchStrategy::learn || spec.strategy == BenchStrategy::pac ||
+                                spec.strategy == BenchStrategy::flowpreact;
+  if (two_stage || learns_by_itself) {
     for (std::uint32_t i = 0; i < kWarmUpFills; ++i) {
       indicator_fill(scenario.scene, kTrialSeedBase + 100 + i, spec.strategy, spec.target_g, settings);
     }

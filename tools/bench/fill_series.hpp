@@ -19,7 +19,7 @@ struct Scenario {
 };
 
 // oracle and oracle_scale are simulation-only limits that read the plant's truth (fill_series.cpp).
-enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle, learn, oracle_scale };
+enum class BenchStrategy { model, preact, twostage, twostage_dyn, oracle, learn, oracle_scale, pac, flowpreact };
 const char* bench_strategy_name(BenchStrategy strategy);
 bool parse_bench_strategy(const std::string& name, BenchStrategy& strategy);
 

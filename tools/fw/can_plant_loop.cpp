@@ -17,6 +17,7 @@
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "nvm_start.hpp"
+#include "plc_link.hpp"
 #include "serial_console.hpp"
 #include "stop_signal.hpp"
 
@@ -111,12 +112,20 @@ int run_can_plant(const CanPlantOptions& options) {
   const FirstSampleWatch first_sample(link->name(), options.plant_timeout_s, options.realtime);
 
   // A serial console (a pty we make, or a device): the board serves it until a signal stops it.
+  PlcLink no_plc({});
+  PlcLink& plc = options.plc ? *options.plc : no_plc;
+  const auto ran_a_jiffy = [](CanBoard::Event event) {
+    return event == CanBoard::Event::jiffy || event == CanBoard::Event::stale_jiffy ||
+           event == CanBoard::Event::bus_off;
+  };
   const auto serve = [&](hal::ConsolePort& console) {
-    CanBoard board(*link, indicator, console, nvm.store.get(), options.realtime);
+    CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
     board.send_heartbeat(hal::can::kNmtBootUp);
     while (!stop_requested()) {
+      plc.before_jiffy();
       const CanBoard::Event event = board.poll(100);
       if (event == CanBoard::Event::closed) throw std::runtime_error(link->name() + " closed");
+      if (ran_a_jiffy(event)) plc.after_jiffy(indicator, board.last_outputs());
       if (first_sample.expired(board)) return first_sample.fail(link->name());
       // A plant that stops is not fatal here: the console stays up for the next one.
     }
@@ -142,17 +151,19 @@ int run_can_plant(const CanPlantOptions& options) {
         std::fwrite(data, 1, n, stdout);
         std::fflush(stdout);
       });
-  CanBoard board(*link, indicator, console, nvm.store.get(), options.realtime);
+  CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
   board.send_heartbeat(hal::can::kNmtBootUp);
   while (!stop_requested()) {
+    plc.before_jiffy();
     const CanBoard::Event event = board.poll(100);
+    if (ran_a_jiffy(event)) plc.after_jiffy(indicator, board.last_outputs());
     if (event == CanBoard::Event::closed) {
       std::fprintf(stderr, "dynweigh-fw: %s closed\n", link->name().c_str());
       return 1;
     }
     if (first_sample.expired(board)) return first_sample.fail(link->name());
     if (event == CanBoard::Event::plant_stopped) {
-      if (console.input_ended() && !board.last_outputs().busy) break;
+      if (console.input_ended() && !board.last_outputs().busy && !plc.active()) break;
       std::fprintf(stderr, "dynweigh-fw: the plant stopped (load-cell heartbeat: stopped) at jiffy %u\n", board.jiffy());
       return 1;
     }
@@ -160,7 +171,7 @@ int run_can_plant(const CanPlantOptions& options) {
     const firmware::Outputs& out = board.last_outputs();
     if (csv) csv->write(board.jiffy() - 1, indicator, out, board.last_raw_counts());
     console.set_indicator_busy(out.busy);
-    if (console.input_ended() && !out.busy) break;
+    if (console.input_ended() && !out.busy && !plc.active()) break;
   }
   // Close a valve left open, and tell the plant this indicator is leaving (CiA 301 heartbeat, NMT stopped).
   board.leave();

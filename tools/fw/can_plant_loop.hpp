@@ -6,6 +6,8 @@
 
 namespace dynweigh::tools {
 
+class PlcLink;
+
 struct CanPlantOptions {
   std::string transport;  // after "can:"
   std::string console = "stdio";
@@ -15,6 +17,7 @@ struct CanPlantOptions {
   bool nvm_reset = false;
   std::string pty_link;
   double plant_timeout_s = 10.0;  // lockstep: no first sample within this long is an error (0: wait)
+  PlcLink* plc = nullptr;         // --modbus, or nothing
 };
 
 // Exit status when a lockstep plant never sent a sample within plant_timeout_s.

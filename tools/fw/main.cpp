@@ -8,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "dynweigh/hal/host/file_settings_store.hpp"
 #include "dynweigh/hal/host/host_clock.hpp"
@@ -18,6 +20,7 @@
 #include "dynweigh/sim/scene.hpp"
 #include "can_plant_loop.hpp"
 #include "nvm_start.hpp"
+#include "plc_link.hpp"
 #include "serial_console.hpp"
 #include "stop_signal.hpp"
 #include "trace_csv.hpp"
@@ -37,6 +40,7 @@ struct Options {
   std::string record;  // every jiffy's Inputs, for dynweigh replay
   std::string pty_link;
   double plant_timeout_s = 10.0;
+  std::vector<std::string> modbus;  // tcp:... / rtu:... endpoints
 };
 
 sim::Scene scene_from_plant_option(const std::string& plant) {
@@ -51,9 +55,10 @@ sim::Scene scene_from_plant_option(const std::string& plant) {
 
 int run(const Options& options) {
   tools::install_stop_handlers();
+  tools::PlcLink plc(tools::parse_modbus_options(options.modbus));
   if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
     return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm,
-                                 options.nvm_reset, options.pty_link, options.plant_timeout_s});
+                                 options.nvm_reset, options.pty_link, options.plant_timeout_s, &plc});
   }
   const sim::Scene scene = scene_from_plant_option(options.plant);
   tools::NvmStart nvm = tools::open_nvm(options.nvm, options.nvm_reset);
@@ -73,11 +78,19 @@ int run(const Options& options) {
   // A serial line (a pty we make, or a device): idle and silent, the plant follows the wall clock;
   // busy, it runs ahead in lockstep unless --realtime.
   // SIGINT or SIGTERM ends a serial console's loop (the pty link goes with it).
+  // With --modbus the PLC's commands join the console's (plc_link.hpp).
+  tools::JiffyStopwatch& stopwatch = plc.stopwatch();
   const auto serve = [&](auto& console) {
+    hal::ConsolePort& port = plc.attach(console);
     for (bool busy = false; !tools::stop_requested();) {
       if (!busy && !options.realtime) console.wait_for_input(10);
-      busy = step(console).busy;
+      stopwatch.start();
+      plc.before_jiffy();
+      const firmware::Outputs outputs = step(port);
+      busy = outputs.busy;
+      plc.after_jiffy(session.indicator(), outputs);
       if (csv) csv->write(session.last_row());
+      stopwatch.stop();
       clock.wait_next_jiffy();
     }
     return 0;
@@ -88,27 +101,58 @@ int run(const Options& options) {
 
   // stdin, read without blocking the loop. In lockstep the plant's time stands still while the
   // indicator is idle and no line has come (the loop waits on stdin, but a signal ends the wait);
-  // in real time the plant goes on and stdin is only polled.
+  // in real time the plant goes on and stdin is only polled. With --modbus a PLC command is work
+  // too: the idle loop looks for a line or a command every 10 ms, and the end of stdin ends
+  // nothing (a signal does).
   hal::host::StreamLineReader lines(STDIN_FILENO, tools::stop_requested);
-  const int idle_wait_ms = options.realtime ? 0 : -1;
+  const bool lockstep_idle_waits = !options.realtime && plc.active();
+  std::optional<std::string> early_line;  // a line the idle wait brought, for the next jiffy
+  bool input_ended = false;
   hal::host::ScriptedConsole console(
       [&](std::string& line) {
-        switch (lines.next(line, idle_wait_ms)) {
+        if (early_line) {
+          line = *early_line;
+          early_line.reset();
+          return hal::host::ScriptedConsole::Poll::line;
+        }
+        if (input_ended) return hal::host::ScriptedConsole::Poll::ended;
+        switch (lines.next(line, options.realtime || plc.active() ? 0 : -1)) {
           case hal::host::StreamLineReader::Result::line: return hal::host::ScriptedConsole::Poll::line;
           case hal::host::StreamLineReader::Result::nothing_yet: return hal::host::ScriptedConsole::Poll::nothing_yet;
           case hal::host::StreamLineReader::Result::ended: break;
         }
+        input_ended = true;
         return hal::host::ScriptedConsole::Poll::ended;
       },
       [](const char* data, std::size_t n) {
         std::fwrite(data, 1, n, stdout);
         std::fflush(stdout);
       });
+  hal::ConsolePort& port = plc.attach(console);
+  bool busy = false;
   while (!tools::stop_requested()) {
-    const firmware::Outputs outputs = step(console);
+    if (lockstep_idle_waits && !busy && !early_line && !plc.command_waiting()) {
+      std::string line;
+      const auto got = input_ended ? hal::host::StreamLineReader::Result::ended : lines.next(line, 10);
+      if (got == hal::host::StreamLineReader::Result::line) {
+        early_line = line;
+      } else {
+        if (got == hal::host::StreamLineReader::Result::ended) {
+          input_ended = true;
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        if (!plc.command_waiting()) continue;
+      }
+    }
+    stopwatch.start();
+    plc.before_jiffy();
+    const firmware::Outputs outputs = step(port);
+    plc.after_jiffy(session.indicator(), outputs);
     if (csv) csv->write(session.last_row());
+    stopwatch.stop();
+    busy = outputs.busy;
     console.set_indicator_busy(outputs.busy);
-    if (console.input_ended() && !outputs.busy) return 0;
+    if (console.input_ended() && !outputs.busy && !plc.active()) return 0;
     clock.wait_next_jiffy();
   }
   return 128 + tools::stop_signal();
@@ -146,6 +190,15 @@ int main(int argc, char** argv) {
                  "many seconds (0: wait for ever)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--modbus", options.modbus,
+                 "serve a PLC: tcp:<host>:<port> (Modbus TCP) or rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id> "
+                 "(Modbus RTU); may be given twice (TCP and RTU at once). The register map is in the README, "
+                 "\"PLC / Modbus\". With --modbus the end of stdin does not end the program; SIGINT or SIGTERM "
+                 "does, printing modbus_requests= and the loop's jiffy timing (loop_jiffy_worst_us=) on stderr")
+      ->check([](const std::string& text) {
+        std::string error;
+        return modbus::parse_endpoint(text, error) ? std::string() : error;
+      });
   app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
   try {
     app.parse(argc, argv);

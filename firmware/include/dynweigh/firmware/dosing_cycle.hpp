@@ -6,10 +6,13 @@
 // start weight taken while the scale moves would be wrong by the motion, and so would the fill.
 #include <cstdint>
 
+#include "dynweigh/firmware/baseline_learning.hpp"
 #include "dynweigh/firmware/dosing_strategy.hpp"
+#include "dynweigh/firmware/flow_preact_cutoff.hpp"
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/learning_table.hpp"
 #include "dynweigh/firmware/model_cutoff.hpp"
+#include "dynweigh/firmware/pac_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
 #include "dynweigh/firmware/two_stage_cutoff.hpp"
@@ -57,6 +60,13 @@ class DosingCycle {
   const DoseResult& result() const { return result_; }
   // After a certified twostage fill: its fine preact and coarse time, adapted.
   const TwoStageCutoff& two_stage() const { return two_stage_; }
+  // What the pac and flowpreact baselines learned: restored before a dose, read after its result.
+  void restore_baselines(const BaselineLearning& learned) {
+    pac_.restore(learned.pac);
+    flow_preact_.restore(learned.flowpreact);
+  }
+  const PacCutoff& pac() const { return pac_; }
+  const FlowPreactCutoff& flow_preact() const { return flow_preact_; }
   // The kind of fill the learn strategy closed: where its residual belongs.
   const LearningKey& learning_key() const { return learning_key_; }
   // What the last model or learn dose measured of the valve and the material.
@@ -74,6 +84,7 @@ class DosingCycle {
   bool decide_model(float net_weight_g);
   bool decide_preact(float filtered_weight_g, float preact_g);
   bool decide_twostage(float filtered_weight_g);
+  bool decide_flow_baseline(float filtered_weight_g);
   void close_valve(float settle_delay_s);
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
@@ -81,6 +92,8 @@ class DosingCycle {
 
   ModelCutoff model_;
   TwoStageCutoff two_stage_;
+  PacCutoff pac_;
+  FlowPreactCutoff flow_preact_;
   StableWeightDetector stable_;
   StableWeightDetector standstill_;
   model::DampedSettlingFit<float, 64> settling_fit_;

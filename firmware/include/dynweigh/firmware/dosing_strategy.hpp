@@ -4,7 +4,8 @@
 namespace dynweigh::firmware {
 
 // SPEC §3 `dose <grams> [<strategy>]`.
-enum class DosingStrategy : std::uint8_t { model = 0, preact = 1, twostage = 2, learn = 3 };
+enum class DosingStrategy : std::uint8_t { model = 0, preact = 1, twostage = 2, learn = 3, pac = 4, flowpreact = 5 };
+inline constexpr int kDosingStrategyCount = 6;
 
 const char* strategy_name(DosingStrategy strategy);
 // False if `name` names no strategy.

@@ -59,6 +59,7 @@ class Indicator {
   void command_param(const Arguments& args);
   void command_valve(const Arguments& args);
   void command_clearfault(const Arguments& args);
+  void command_abort(const Arguments& args);
   void command_learn(const Arguments& args);
   void command_estimates(const Arguments& args);
   void command_help(const Arguments& args);

@@ -36,6 +36,7 @@ enum class ParameterId : std::uint8_t {
   standstill_timeout_s,
   echo,
   twostage_coarse_g,
+  plc_watchdog_ms,
   count
 };
 
@@ -56,7 +57,7 @@ const ParameterSpec& parameter_spec(ParameterId id);
 
 // The `param` listing (one `name=value  # description` line a parameter, then OK) fits in this
 // many bytes: parameters.cpp checks it at compile time, the console reserves it before answering.
-inline constexpr std::size_t kParameterListingMaxBytes = 2600;
+inline constexpr std::size_t kParameterListingMaxBytes = 2700;
 // The parameter named `name`, or ParameterId::count.
 ParameterId find_parameter(const char* name);
 

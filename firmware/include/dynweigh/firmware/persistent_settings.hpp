@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "dynweigh/firmware/baseline_learning.hpp"
 #include "dynweigh/firmware/learning_table.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
@@ -28,11 +29,16 @@ struct PersistentSettings {
   Calibration calibration;
   Parameters parameters;
   LearningTable learning;
+  BaselineLearning baselines;
 };
 
 inline constexpr std::size_t kLearningEntryBytes = 12;
+// A learned least-squares law: theta1, theta2, p11, p12, p22 (f32 each), fills u16, 2 bytes pad.
+inline constexpr std::size_t kRlsStateBytes = 24;
+// pac: spill law, blind law; flowpreact: lag f32, fills u16, pad, blind law.
+inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + kRlsStateBytes;
 inline constexpr std::size_t kSettingsRecordSize =
-    16 + 12 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries;
+    16 + 12 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes;
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 
