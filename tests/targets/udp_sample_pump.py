@@ -12,7 +12,7 @@ Cases (--case):
   no_plant        nothing at the other end: stderr says what it waits for; lockstep gives up after
                   --plant-timeout with one line and exit status 3; real time raises can_silence.
   pty_unread      --console pty with a client that sends commands and never reads the answers: the
-                  pty fills, and every sample is still answered within 0.2 s (nothing waits on it).
+                  pty fills, and every sample is still answered within 1 s (nothing waits on it).
   new_nvm         a new --nvm file starts without calibration (`dose` -> ERR 5 not calibrated), said
                   on stderr; without --nvm the default scene's factory calibration, said on stderr.
 """
@@ -300,7 +300,7 @@ def case_pty_unread(args):
             try:
                 for _ in range(60):  # about 120 KB of `param` answers that nobody reads
                     os.write(client, b"param\r\n")
-                    plant.pump(0.05, process, timeout=0.2)
+                    plant.pump(0.05, process, timeout=1.0)  # a loop blocked on the full pty never answers; 1 s spares a loaded machine
                 plant.pump(1.0, process, timeout=0.2)
             finally:
                 os.close(client)

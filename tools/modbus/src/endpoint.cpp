@@ -21,7 +21,7 @@ std::optional<Endpoint> parse_endpoint(const std::string& text, std::string& err
     const std::size_t colon = rest.rfind(':');
     long port = 0;
     if (colon == std::string::npos || colon == 0 || !whole_number(rest.substr(colon + 1), 1, 65535, port)) {
-      error = "--modbus tcp:<host>:<port> needs a host and a port 1..65535, not '" + text + "'";
+      error = "tcp:<host>:<port> needs a host and a port 1..65535, not '" + text + "'";
       return std::nullopt;
     }
     endpoint.kind = Endpoint::Kind::tcp;
@@ -37,7 +37,7 @@ std::optional<Endpoint> parse_endpoint(const std::string& text, std::string& err
     const std::size_t baud_colon =
         framing_colon == std::string::npos || framing_colon == 0 ? std::string::npos : rest.rfind(':', framing_colon - 1);
     const std::string usage =
-        "--modbus rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id 1..247> expected, not '" + text + "'";
+        "rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id 1..247> expected, not '" + text + "'";
     if (baud_colon == std::string::npos || baud_colon == 0) {
       error = usage;
       return std::nullopt;
@@ -57,7 +57,7 @@ std::optional<Endpoint> parse_endpoint(const std::string& text, std::string& err
     endpoint.unit_id = int(unit);
     return endpoint;
   }
-  error = "--modbus must be tcp:<host>:<port> or rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id>, not '" + text + "'";
+  error = "must be tcp:<host>:<port> or rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id>, not '" + text + "'";
   return std::nullopt;
 }
 
