@@ -103,12 +103,19 @@ class FuzzConsole final : public hal::ConsolePort {
     written_this_jiffy_ += length;
     if (written_this_jiffy_ > firmware::TextWriter::kCapacity) violated("a jiffy sent more than the ring holds", jiffy_);
     for (std::size_t i = 0; i < length; ++i) {
-      if (echo_expected_.empty()) {
-        observe_answer(data[i]);
-        continue;
+      const char c = data[i];
+      // A whole answer line may come before this jiffy's echo: the answer of a command that waited
+      // for its settings to be saved is written at the start of the next jiffy, ahead of the echo.
+      const bool answer = answer_line_open_ || echo_expected_.empty() ||
+                          (c != echo_expected_.front() && at_line_start_);
+      if (answer) {
+        observe_answer(c);
+        answer_line_open_ = !echo_expected_.empty() && c != '\n';
+      } else {
+        if (c != echo_expected_.front()) violated("the echo differs from what was typed", jiffy_);
+        echo_expected_.erase(0, 1);
       }
-      if (data[i] != echo_expected_.front()) violated("the echo differs from what was typed", jiffy_);
-      echo_expected_.erase(0, 1);
+      at_line_start_ = c == '\n';
     }
   }
   void start_jiffy() {
@@ -159,7 +166,9 @@ class FuzzConsole final : public hal::ConsolePort {
   std::size_t position_ = 0;
   bool indicator_busy_ = false;
   bool echo_ = false;
-  std::string echo_expected_;  // echoed bytes still to come before this jiffy's answers
+  std::string echo_expected_;  // echoed bytes still to come in this jiffy
+  bool at_line_start_ = true;     // the last byte written ended a line
+  bool answer_line_open_ = false;  // an answer line is being written ahead of the echo
   std::uint32_t jiffy_ = 0;
   firmware::ConsoleLineReader mirror_;
   std::size_t command_lines_ = 0;
