@@ -1,5 +1,7 @@
 #include "dynweigh/firmware/logbook.hpp"
 
+#include "dynweigh/firmware/little_endian.hpp"
+
 #include "dynweigh/firmware/persistent_settings.hpp"
 
 namespace dynweigh::firmware {
@@ -8,14 +10,6 @@ namespace {
 constexpr std::uint32_t kLogMagic = 0x474C5744;  // "DWLG"
 constexpr std::size_t kCrcOffset = kLogRecordSize - 4;
 
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
-}
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
-  return v;
-}
 
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "dynweigh/firmware/persistent_settings.hpp"
 
+#include "dynweigh/firmware/little_endian.hpp"
+
 #include <cmath>
 #include <cstring>
 
@@ -10,14 +12,6 @@ constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned
 constexpr std::uint16_t kVersion = 4;
 
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
-}
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
-  return v;
-}
 void put_f32(std::uint8_t* p, float f) {
   std::uint32_t v;
   std::memcpy(&v, &f, 4);

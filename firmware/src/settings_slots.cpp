@@ -1,18 +1,12 @@
 #include "dynweigh/firmware/settings_slots.hpp"
 
+#include "dynweigh/firmware/little_endian.hpp"
+
 namespace dynweigh::firmware {
 namespace {
 
 constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
 
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
-}
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
-  return v;
-}
 std::uint32_t slot_crc(const std::uint8_t* slot) {
   // Over sequence and length (bytes 4..11) and the payload.
   return crc32(slot + 4, 8) ^ crc32(slot + kSlotHeaderSize, kSettingsRecordSize);
