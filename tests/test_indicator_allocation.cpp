@@ -4,34 +4,15 @@
 // nothing either, so any count is the indicator's.
 #include <gtest/gtest.h>
 
-#include <atomic>
+#include "support/counting_operator_new.hpp"
+
 #include <cstdlib>
 #include <cstring>
-#include <new>
 
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/sim/scene.hpp"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-// The replacements pair malloc with free on purpose; GCC cannot see that and warns.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size ? size : 1);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
+using dynweigh::testing::g_allocations;
 
 namespace dynweigh {
 namespace {
