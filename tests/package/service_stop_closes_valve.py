@@ -42,6 +42,7 @@ class Console:
     def __init__(self, path):
         self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
         self.pending = b""
+        self.transcript = []  # every line read, for a failure's message
 
     def command(self, line, seconds=5):
         os.write(self.fd, line.encode() + b"\r")
@@ -54,14 +55,19 @@ class Console:
                 raw, self.pending = self.pending.split(b"\n", 1)
                 text = raw.decode(errors="replace").strip()
                 lines.append(text)
+                self.transcript.append(text)
                 if text == "OK" or text.startswith("ERR"):
                     return lines
         fail(f"no answer to {line!r} within {seconds} s: {lines}")
 
-    def valve(self):
-        """The valve the indicator commands now: status's valve= (0 closed, 1 half, 2 open)."""
+    def status(self, key):
+        """One field of status's line: valve= (0 closed, 1 half, 2 open), weight= (none before a reading)."""
         status = [line for line in self.command("status") if line.startswith("STATUS ")]
-        return int(status[0].split("valve=")[1].split()[0]) if status else None
+        return status[0].split(f"{key}=")[1].split()[0] if status else None
+
+    def valve(self):
+        value = self.status("valve")
+        return int(value) if value is not None else None
 
     def close(self):
         os.close(self.fd)
@@ -83,10 +89,19 @@ with tempfile.TemporaryDirectory() as scratch:
     service_out = plant_out = ""
     try:
         link = os.path.join(scratch, "console")
-        wait_for(lambda: os.path.exists(link), 10, "console link")
+        wait_for(lambda: os.path.exists(link), 20, "console link")
         console = Console(link)
-        os.write(console.fd, b"dose 10000\r")
-        wait_for(lambda: console.valve() == 2, 15, "open valve during the dose")
+        # A slow machine (a sanitizer build) may start the plant's stream after the console: a dose
+        # typed before the first reading is refused, so wait for one as an operator would.
+        try:
+            wait_for(lambda: console.status("weight") not in (None, "none"), 20, "reading from the plant")
+            if console.status("fault") != "none":
+                console.command("clearfault")  # the bus was silent while the plant started
+            os.write(console.fd, b"dose 10000\r")
+            wait_for(lambda: console.valve() == 2, 20, "open valve during the dose")
+        except SystemExit:
+            print("--- console ---\n" + "\n".join(console.transcript[-20:]))
+            raise
         time.sleep(0.3)  # the stream is running
         if console.valve() != 2:
             fail("the valve closed before the stop (a fault?): nothing to show")
@@ -106,6 +121,10 @@ with tempfile.TemporaryDirectory() as scratch:
             console.close()
         stop(service)
         stop(plant)
+        if not service_out:
+            service_out = service.communicate()[0]
+        if not plant_out:
+            plant_out = plant.communicate()[0]
         print("--- service ---\n" + service_out + "--- dynweigh plant ---\n" + plant_out)
 
     if service.returncode != 0:
