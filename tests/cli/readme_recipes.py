@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The README's recipes run as written: every shell block of README.md (a fenced block tagged sh,
-bash or shell, or an indented block, the README's way of showing a command line) runs in a scratch
+"""The docs' recipes run as written: every shell block of README.md and of the pages in docs/ (a
+fenced block tagged sh, bash or shell, or an indented block, the docs' way of showing a command line;
+output is shown in a fenced block tagged text) runs in a scratch
 directory with the built programs first on PATH, under `bash -e -o pipefail`, each in a session of
 its own with a time limit. A block fails if it exits non-zero, runs out of time, or leaves a
 process running (a recipe that orphans a program is broken even if it exits 0).
@@ -9,8 +10,10 @@ The blocks that cannot run here are skipped by name below, each with its reason,
 prints them; a block that is neither run nor skipped by name does not exist: every block is run
 unless it is listed. Fenced blocks without a shell tag (a synopsis, a diagram) are not commands.
 
-Usage: readme_recipes.py <build dir> [README.md]
+Usage: readme_recipes.py <build dir> [FILE.md | FOLDER]...
+(default: README.md; a FOLDER stands for every *.md in it)
 """
+import glob
 import os
 import re
 import shutil
@@ -31,6 +34,8 @@ SKIPPED = {
     "# build the Debian package": "builds in the source tree (tests/package builds the package and checks it)",
     "# on the controller: install the package": "installs a package as root (tests/package unpacks it and runs it)",
     "# one instance per scale": "needs root and systemd as init (tests/package verifies the unit and its launcher)",
+    "dynweigh bench --plants random:20": "the family bench runs for minutes (tests/cli/bench_plants.sh covers the command)",
+    "python3 tests/targets/outside_plant.py": "runs from the source tree (targets.outside_plant_* run it)",
 }
 SHELL_TAGS = {"sh", "bash", "shell", "console"}
 TIME_LIMIT_S = 120
@@ -111,34 +116,51 @@ def run(code, build, work):
     return problem, output
 
 
+def documents(arguments):
+    """The Markdown files named, a folder standing for every *.md in it (in name order)."""
+    if not arguments:
+        arguments = [os.path.join(os.path.dirname(__file__), "..", "..", "README.md")]
+    files = []
+    for argument in arguments:
+        files += sorted(glob.glob(os.path.join(argument, "*.md"))) if os.path.isdir(argument) else [argument]
+    return files
+
+
 def main():
     build = os.path.abspath(sys.argv[1])
-    readme = sys.argv[2] if len(sys.argv) > 2 else os.path.join(os.path.dirname(__file__), "..", "..", "README.md")
     failed = 0
     ran = 0
-    for line, code in blocks(open(readme).read()):
-        first = next((l for l in code.split("\n") if l.strip()), "")
-        reason = next((why for key, why in SKIPPED.items() if key in first), None)
-        if reason:
-            print(f"skip README.md:{line}: {first[:60]!r}: {reason}")
-            continue
-        work = tempfile.mkdtemp(prefix="readme-")
-        try:
-            t0 = time.monotonic()
-            problem, output = run(code, build, work)
-            ran += 1
-            verdict = "FAIL" if problem else "ok"
-            print(f"{verdict} README.md:{line} ({time.monotonic() - t0:.1f} s): {first[:70]!r}")
-            if problem:
-                failed += 1
-                print(f"  {problem}\n  output:\n" + "\n".join("    " + l for l in output.splitlines()[-20:]))
-        finally:
-            shutil.rmtree(work, ignore_errors=True)
+    for document in documents(sys.argv[2:]):
+        name = os.path.relpath(os.path.abspath(document), os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+        for line, code in blocks(open(document).read()):
+            result = run_block(f"{name}:{line}", code, build)
+            ran += result is not None
+            failed += result is True
     print(f"blocks_run={ran} blocks_failed={failed}")
     if ran == 0:
         print("FAIL: no block ran")
         return 1
     return 1 if failed else 0
+
+
+def run_block(where, code, build):
+    """Runs one block and prints its verdict: None when skipped by name, True when it failed."""
+    first = next((l for l in code.split("\n") if l.strip()), "")
+    reason = next((why for key, why in SKIPPED.items() if key in first), None)
+    if reason:
+        print(f"skip {where}: {first[:60]!r}: {reason}")
+        return None
+    work = tempfile.mkdtemp(prefix="readme-")
+    try:
+        t0 = time.monotonic()
+        problem, output = run(code, build, work)
+        verdict = "FAIL" if problem else "ok"
+        print(f"{verdict} {where} ({time.monotonic() - t0:.1f} s): {first[:70]!r}")
+        if problem:
+            print(f"  {problem}\n  output:\n" + "\n".join("    " + l for l in output.splitlines()[-20:]))
+        return bool(problem)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 sys.exit(main())
