@@ -1,5 +1,5 @@
-// Fuzz target: arbitrary bytes as Linux `struct can_frame` images (SPEC §4, the udp transport), 16
-// bytes a frame, and each accepted frame through every SPEC §4 message decoder.
+// Fuzz target: arbitrary bytes as Linux `struct can_frame` images (docs/can-protocol.md, the udp transport), 16
+// bytes a frame, and each accepted frame through every message decoder of docs/can-protocol.md.
 //
 // Invariants: an accepted frame has a DLC of at most 8 and an identifier in range, and converts
 // back to the same bytes; a short image is refused; at most one decoder accepts a frame, and only

@@ -9,7 +9,7 @@
 //    dose's RESULT with every line answered (a finished dose leaves the valve closed); never while
 //    a fault is latched;
 //  - the answer text is printable ASCII in lines of bounded length; no jiffy sends more than the
-//    transmit ring holds; the valve delay byte stays within SPEC §4's 0..99;
+//    transmit ring holds; the valve delay byte stays within the 0..99 of docs/can-protocol.md;
 //  - never more answers (`OK` or `ERR ...`) than command lines, and once the indicator is idle
 //    again after the input, exactly one answer per command line;
 //  - with `param echo 1`, what precedes a jiffy's answers is exactly the echo of what was typed
@@ -125,7 +125,7 @@ class FuzzConsole final : public hal::ConsolePort {
   }
 
  private:
-  // The same line rules the firmware applies (SPEC §3), to know which lines are commands.
+  // The same line rules the firmware applies (docs/console.md), to know which lines are commands.
   void observe_sent(char c) {
     const firmware::ConsoleLineReader::Event event = mirror_.feed(c);
     if (echo_) echo_expected_ += mirror_.echo();
@@ -249,7 +249,7 @@ void play(const std::uint8_t* data, std::size_t size, bool paced) {
     if (out.valve != firmware::ValveCommand::closed && !console.may_open()) {
       violated("valve commanded open without a command that opens it", jiffy);
     }
-    if (out.valve_delay_100us > 99) violated("valve delay beyond SPEC §4's 99", jiffy);
+    if (out.valve_delay_100us > 99) violated("valve delay beyond 99", jiffy);
     plant.advance();
   }
 }

@@ -1,5 +1,5 @@
 // Fuzz target: arbitrary bytes from an SLCAN (Lawicel) serial adapter into the line decoder, and
-// each frame it completes through the SPEC §4 decoders.
+// each frame it completes through the CAN protocol's decoders (docs/can-protocol.md).
 //
 // Invariants: a completed frame has a DLC of at most 8 and an identifier in range; it encodes
 // back to exactly the line that carried it (hex digits compared without case); the error count

@@ -29,8 +29,9 @@ if [ "$(basename "$program")" = dynweigh ]; then
 fi
 cat >> "$scratch/include" <<'SEE_ALSO'
 [SEE ALSO]
-The README in /usr/share/doc/dynweigh: the console's commands, the scenes, the CAN link, and
-installing the service \fBdynweigh\-fw@.service\fR.
+The README in /usr/share/doc/dynweigh and the pages in /usr/share/doc/dynweigh/docs: the console's
+commands (console.md), errors and faults (troubleshooting.md), the scenes (scenes.md), the CAN link
+(can-protocol.md), and installing the service \fBdynweigh\-fw@.service\fR (targets.md).
 SEE_ALSO
 
 help2man --no-info --no-discard-stderr --name="$description" --include="$scratch/include" \

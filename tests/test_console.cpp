@@ -1,4 +1,4 @@
-// Every command and every error code of SPEC §3, through the same step function the firmware runs.
+// Every command and every error code of docs/console.md, through the same step function the firmware runs.
 #include <gtest/gtest.h>
 
 #include "support/console_session.hpp"

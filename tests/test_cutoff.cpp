@@ -26,7 +26,7 @@ double true_error_g(const std::string& dose, std::uint64_t seed, const std::vect
   return (c.session().plant().truth().static_kg - before) * 1000.0 - double(target);
 }
 
-// Issue 4's goal: within 1 g of every target in the ideal scene (the analytic answer; about 0.5 g of
+// The goal: within 1 g of every target in the ideal scene (the analytic answer; about 0.5 g of
 // what remains is the plant's 1 ms parcels, which leave the reading below the continuum's).
 TEST(ModelCutoff, IdealSceneWithinOneGramOfEveryTarget) {
   for (int target : {500, 2000, 5000, 7500, 10000, 15000}) {

@@ -40,7 +40,7 @@ TEST(DoseEstimates, BeforeAnyModelDoseThereIsNothingToTell) {
   EXPECT_EQ(c.run({"estimates now"}), "ERR 2 usage: estimates\n");
 }
 
-// SPEC §2's valve: 30 ms dead time with 2 ms jitter. Over seeds the measured dead time centres on
+// the default scene's valve (docs/scenes.md): 30 ms dead time with 2 ms jitter. Over seeds the measured dead time centres on
 // it (~2 ms early: the first grains leave with some speed), the flow on the plant's, the impact
 // speed on sqrt(v0^2 + 2 g h) (4.9 m/s for 1.2 m) - ~7 % high: the flow's start-up (alpha rising
 // over 0.15 s) leaves ~70 g less landed than rate x time, which reads as impulse.
@@ -52,7 +52,7 @@ TEST(DoseEstimates, DeadTimeFlowAndImpulseOfTheDefaultScene) {
     const Measured m = dose_and_estimate(sim::default_scene(), seed, "dose 8000");
     dead_sum += m.dead_ms;
     worst_dead = std::fmax(worst_dead, std::fabs(m.dead_ms - 30.0));
-    // The plant's mean flow: Beverloo's 2.41 kg/s for the default silo (PHYSICS §3).
+    // The plant's mean flow: Beverloo's 2.41 kg/s for the default silo (docs/physics.md).
     worst_flow = std::fmax(worst_flow, std::fabs(m.flow_kg_s / 2.41 - 1.0));
     if (m.impulse_known) {
       speed_sum += m.impact_m_s;

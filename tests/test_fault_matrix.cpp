@@ -1,4 +1,4 @@
-// The fault matrix (issue 8): every injected fault x every strategy. Each fault found closes the
+// The fault matrix: every injected fault x every strategy. Each fault found closes the
 // valve in the jiffy it is detected, `status` names it, `dose` answers ERR 4, the pending dose is
 // answered with the fault, and nothing is overdosed beyond target + the OIML R61 X(1) in-service
 // limit, except where a stuck-open valve was injected (which alarms within 100 ms of the close).

@@ -1,4 +1,4 @@
-// Numerical stress of the firmware arithmetic (issue 8): the float estimator and predictor the
+// Numerical stress of the firmware arithmetic: the float estimator and predictor the
 // target runs beside the same code in double, over a day of jiffies, at full scale, at near-zero and
 // at huge flow and under heavy noise. Both see the very same float samples, so every difference is
 // the arithmetic's: the cutoff jiffies must agree and the predicted final differ by at most 0.5 d.

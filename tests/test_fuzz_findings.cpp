@@ -1,4 +1,4 @@
-// What the fuzz targets of fuzz/ found (issue 8, bad input), pinned as ordinary tests: each fails
+// What the fuzz targets of fuzz/ found, pinned as ordinary tests: each fails
 // on the code as it was before its fix.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// The ideal model of PHYSICS §1 against values worked by hand for the default scene
-// (rho_b 1550 kg/m^3, D 60 mm, d 0.5 mm, h 1.2 m; PHYSICS §3 quotes W 2.41 kg/s, v0 0.55 m/s,
+// The ideal model of docs/physics.md against values worked by hand for the default scene
+// (rho_b 1550 kg/m^3, D 60 mm, d 0.5 mm, h 1.2 m; docs/physics.md quotes W 2.41 kg/s, v0 0.55 m/s,
 // t 0.44 s, 1.06 kg in flight, mdot v0 / g 135 g).
 #include <gtest/gtest.h>
 

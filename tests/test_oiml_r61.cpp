@@ -1,4 +1,4 @@
-// OIML R61 classes against values worked by hand from the table in shared/PHYSICS.md §4.
+// OIML R61 classes against values worked by hand from the table in docs/benchmarks.md.
 #include <gtest/gtest.h>
 
 #include "oiml_r61.hpp"
@@ -18,7 +18,7 @@ TEST(OimlR61, X1LimitsAtTheBandEdges) {
 }
 
 TEST(OimlR61, TenKilogramsInX02IsTwentyOneGramsAndSevenAndAHalfBias) {
-  // PHYSICS §4: every fill within 21 g of the mean, the mean within 7.5 g of 10 kg.
+  // docs/benchmarks.md: every fill within 21 g of the mean, the mean within 7.5 g of 10 kg.
   EXPECT_EQ(best_oiml_class(10000, 21.0, 7.5), 0.2);
   EXPECT_EQ(best_oiml_class(10000, 21.1, 7.5), 0.5);  // one fill too far: next class
   EXPECT_EQ(best_oiml_class(10000, 21.0, 7.6), 0.5);  // preset error too large

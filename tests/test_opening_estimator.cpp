@@ -24,7 +24,7 @@ constexpr double kNoiseG = 0.3;
 constexpr double kBaselineG = 12000.0;  // the default scene's empty reading, 1 g per count
 constexpr double kBoreM = 0.060;
 constexpr double kBulkDensity = 1550.0;
-constexpr double kRateKgS = 2.41;  // Beverloo for the default bore and sand (PHYSICS §3)
+constexpr double kRateKgS = 2.41;  // Beverloo for the default bore and sand (docs/physics.md)
 const PlatformResponse<double> kPlatform{12.0, 0.05, false};
 
 double bore_area() { return bore_area_m2(kBoreM); }

@@ -1,4 +1,4 @@
-// The backbone's plant invariants (PHYSICS §2) and the sign of the corrected ideal model.
+// The backbone's plant invariants (docs/physics.md) and the sign of the corrected ideal model.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -520,7 +520,7 @@ TEST(RingingFlowObserver, FollowsALastingJump) {
   EXPECT_LT(worst_within_2, 500);
 }
 
-// SPEC's platform is known to ~10 %: told 0.85x or 1.15x the true frequency the observer stays
+// The installation's platform is known to ~10 %: told 0.85x or 1.15x the true frequency the observer stays
 // within a few grams and far ahead of the line fit.
 TEST(RingingFlowObserver, ToleratesAWrongPlatformFrequency) {
   const Scene scene = realistic_scene();

@@ -1,4 +1,4 @@
-// The soak (issue 8): one indicator doses cycle after cycle, random targets and strategies, with a
+// The soak: one indicator doses cycle after cycle, random targets and strategies, with a
 // random fault injected into a third of the cycles at a random jiffy. Each cycle gets a fresh
 // hopper (a new plant, as a discharged hopper), the indicator carries on. Nothing may hang, every
 // fault must be answered and cleared, and no fill may exceed its target by more than the OIML R61

@@ -1,4 +1,4 @@
-// `starttestdata 50 600` then `readtestdata`, as the thesis' indicator did (shared/seed §2.2).
+// `starttestdata 50 600` then `readtestdata`, as the thesis' indicator did (the thesis' section 2.2).
 #include <gtest/gtest.h>
 
 #include "support/console_session.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Writes the per-jiffy trace CSV of SPEC §5 with a fixed number format, so the same seed gives
+// Writes the per-jiffy trace CSV of docs/programs.md (`--csv`) with a fixed number format, so the same seed gives
 // the same bytes on every build.
 #include <cstdio>
 #include <string>

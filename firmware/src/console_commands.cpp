@@ -1,4 +1,4 @@
-// The console's command table (SPEC §3) and handlers: each command is declared beside its usage,
+// The console's command table (docs/console.md) and handlers: each command is declared beside its usage,
 // so `help` and the dispatcher read the same table.
 #include <cmath>
 #include <cstdlib>

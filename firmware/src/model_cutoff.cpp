@@ -11,17 +11,17 @@ namespace {
 template <typename Scalar>
 constexpr Scalar kGravity = Scalar(9.81);
 // The material is unknown until it flows: Beverloo's constants for a typical free-flowing sand
-// (shared/PHYSICS.md §3) give the prior; the measured flow replaces it after the first impact.
+// (docs/physics.md, Beverloo) give the prior; the measured flow replaces it after the first impact.
 template <typename Scalar>
 constexpr model::BeverlooMaterial<Scalar> prior_material(Scalar bulk_density) {
   return {Scalar(0.58), Scalar(1.5), Scalar(0.0005), bulk_density};
 }
-// SPEC §2's platform; the observer barely depends on it (damping 0.02..0.1 changes its static
+// the default scene's platform (docs/scenes.md); the observer barely depends on it (damping 0.02..0.1 changes its static
 // estimate by a few grams), so it is not a parameter.
 template <typename Scalar>
 constexpr Scalar kPlatformDamping = Scalar(0.05);
 // The silo's flow wanders by ~3 % over 0.15 s and each jiffy's landing scatters by ~7 % about it
-// (the default scene; shared/PHYSICS.md §2): the observer's noise in proportion to the flow.
+// (the default scene; docs/physics.md): the observer's noise in proportion to the flow.
 template <typename Scalar>
 constexpr Scalar kRateWalkPerJiffy = Scalar(0.0125);
 template <typename Scalar>

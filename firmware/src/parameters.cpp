@@ -10,8 +10,8 @@ constexpr const char* kFilterNames[] = {"none", "avg", "iir"};
 constexpr const char* kCertifyNames[] = {"auto", "stable", "dynamic"};
 constexpr const char* kEstimatorNames[] = {"line", "observer"};
 
-// The defaults are the thesis' setup (shared/seed table 2.2) and SPEC §2's valve. `preact_g` is
-// tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (README).
+// The defaults are the thesis' setup (its table 2.2) and the default scene's valve (docs/scenes.md). `preact_g` is
+// tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (docs/console.md, parameters).
 constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"bore_mm", "valve bore diameter, mm", 5, 500, 60, nullptr, 0},
     {"fall_mm", "orifice to the empty container's bottom, mm", 10, 10000, 1200, nullptr, 0},

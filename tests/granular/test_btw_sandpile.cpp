@@ -14,7 +14,7 @@ using namespace dynweigh::granular;
 
 namespace {
 const double kPi = std::acos(-1.0);
-// PHYSICS.md section 3: P(0) = 2/pi^2 - 4/pi^3, mean height 17/8 for heights 0..3.
+// docs/scenes.md: P(0) = 2/pi^2 - 4/pi^3, mean height 17/8 for heights 0..3.
 const double kExactP0 = 2.0 / (kPi * kPi) - 4.0 / (kPi * kPi * kPi);
 constexpr double kExactMeanHeight = 17.0 / 8.0;
 }  // namespace

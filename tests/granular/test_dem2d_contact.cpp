@@ -1,4 +1,4 @@
-// The 2D DEM contact against the closed-form linear spring-dashpot results of PHYSICS.md
+// The 2D DEM contact against the closed-form linear spring-dashpot results of docs/scenes.md
 // section 3, energy conservation without damping, and Cundall-Strack friction with rotation.
 #include <gtest/gtest.h>
 

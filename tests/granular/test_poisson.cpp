@@ -1,4 +1,4 @@
-// Poisson duct flow against the series solution of the unit square (PHYSICS.md section 3) and
+// Poisson duct flow against the series solution of the unit square (docs/scenes.md) and
 // the exact Poiseuille profile of the circular duct; every solver reaches the same solution.
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 using namespace dynweigh::granular;
 
 namespace {
-constexpr double kPublishedMax = 0.0736713;   // PHYSICS.md section 3
-constexpr double kPublishedMean = 0.0351442;  // PHYSICS.md section 3
+constexpr double kPublishedMax = 0.0736713;   // docs/scenes.md
+constexpr double kPublishedMean = 0.0351442;  // docs/scenes.md
 
 FlowProfile solve_square(int n, PoissonSolverKind kind, double tolerance) {
   const PoissonProblem p = make_duct_problem(n, DuctShape::square);

@@ -1,4 +1,4 @@
-// Calibration of lumped scenes from the detail models (issue 5 item 4).
+// Calibration of lumped scenes from the detail models.
 //
 // The DEM test runs three 2D DEM doses of the default scene (open at 0, close at 0.8 s; 1200
 // discs of 7.5 mm; about 6 s of CPU each, on two threads), calibrates the lumped scene from them

@@ -1,6 +1,6 @@
 // 2D silo discharge (labelled slow): the rate follows the 2D Beverloo law W = C (D - k d)^1.5
 // over four orifice widths, and does not depend on the fill height (Janssen). Reference for C
-// and k: the peer LAMMPS runs of shared/peers/README.md (C phi = 1.003 in (4/pi) C phi units,
+// and k: the LAMMPS runs of the same silo (C phi = 1.003 in (4/pi) C phi units,
 // i.e. C = 1.277 discs per sqrt(d/g) per d^1.5, and k = 1.50).
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The .deb's control data (dpkg-deb -I): name, version, architecture, a Depends that names the
 # Debian package of every shared library the programs need, the conffiles, maintainer scripts that
-# parse; and its contents: every file the install puts where the README says, owned by root.
+# parse; and its contents: every file the install puts where docs/targets.md says (the docs pages included), owned by root.
 set -euo pipefail
 . "$(dirname "$0")/common.sh"
 root=$1 version=$2 source=$3

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The installed unit dynweigh-fw@.service: systemd-analyze verify finds nothing to say about an
 # instance of it (its ExecStart pointed at the launcher in the unpacked package, which must
-# exist and be executable), and it says what the README promises: the instance file, its own
+# exist and be executable), and it says what docs/targets.md promises: the instance file, its own
 # user, the settings folder, restart on failure, SIGTERM on stop.
 set -euo pipefail
 . "$(dirname "$0")/common.sh"

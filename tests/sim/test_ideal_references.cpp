@@ -1,6 +1,6 @@
 // The plant against the outside references: the ideal scene against thesis table 2.1 with the
-// corrected sign of eq. 1.14 (PHYSICS §1), the 10 kg / 9 s example of thesis §1.3, and Beverloo's
-// law for the silo component (PHYSICS §3).
+// corrected sign of eq. 1.14 (docs/physics.md), the 10 kg / 9 s example of thesis §1.3, and Beverloo's
+// law for the silo component (docs/physics.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,7 +83,7 @@ TEST_F(IdealSceneAgainstTable21, FinalStaticForceIsGTimesEverythingReleased) {
   EXPECT_NEAR(final_n_, expected, 0.005 * expected);
 }
 
-// The sign pin (PHYSICS §1): F_dm - F_imp = -mdot v0, so the reading at close EXCEEDS the final
+// The sign pin (docs/physics.md): F_dm - F_imp = -mdot v0, so the reading at close EXCEEDS the final
 // static weight by mdot v0 / g. The thesis' eq. 1.14 (+v0^2 A rho) would put it below.
 TEST_F(IdealSceneAgainstTable21, ReadingAtCloseExceedsFinalStaticByMdotV0OverG) {
   const double excess_kg = (reading_at_close_n_ - final_n_) / scene_.g;
@@ -142,7 +142,7 @@ TEST(SiloComponent, FullOpenFlowIsBeverloosLawFrom20To100mm) {
 TEST(SiloComponent, DefaultSceneMatchesPhysicsReferenceValues) {
   const Scene s = default_scene();
   const IdealFigures f = ideal_figures(s);
-  EXPECT_NEAR(Silo(s.silo, s.g, 1).full_open_rate_kg_s(), 2.41, 0.01);  // PHYSICS §3
+  EXPECT_NEAR(Silo(s.silo, s.g, 1).full_open_rate_kg_s(), 2.41, 0.01);  // docs/physics.md
   EXPECT_NEAR(f.v0, 0.55, 0.01);
   EXPECT_NEAR(f.fall_s, 0.44, 0.01);
 }

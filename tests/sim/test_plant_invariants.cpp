@@ -1,4 +1,4 @@
-// PHYSICS §2 invariants on every shipped scene: mass released = on scale + in flight at every
+// The invariants of docs/physics.md on every shipped scene: mass released = on scale + in flight at every
 // step, the settled reading is g times the released mass, the hourglass' impulse balance, and
 // "only what a scene needs": a component the scene does not run is never stepped.
 #include <gtest/gtest.h>

@@ -75,10 +75,10 @@ TEST(SceneFiles, DescribeNamesTheResolvedParametersAndComponents) {
 TEST(SceneFiles, FullOpenRateInTheDescriptionIsBeverloosFigure) {
   for (const auto& [key, value] : describe_scene(default_scene())) {
     if (key == "full_open_rate_kg_s") {
-      EXPECT_NEAR(std::stod(value), 2.41, 0.01);  // PHYSICS §3
+      EXPECT_NEAR(std::stod(value), 2.41, 0.01);  // docs/physics.md
     }
     if (key == "excess_at_close_kg") {
-      EXPECT_NEAR(std::stod(value), 0.135, 0.001);  // PHYSICS §3
+      EXPECT_NEAR(std::stod(value), 0.135, 0.001);  // docs/physics.md
     }
   }
 }

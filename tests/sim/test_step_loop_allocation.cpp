@@ -1,5 +1,5 @@
-// The plant allocates at set-up only (DESIGN: "it may allocate at set-up; its step loop should
-// not"). Counted through the global operator new of this test binary.
+// The plant allocates at set-up only: it may allocate at set-up; its step loop must
+// not. Counted through the global operator new of this test binary.
 #include <gtest/gtest.h>
 
 #include "support/counting_operator_new.hpp"

@@ -1,12 +1,12 @@
 #pragma once
 // The indicator on the Linux CAN board (hal/linux/can_board.hpp) against the simulated plant
-// playing the SPEC §4 load-cell and valve modules, over the in-process `udp:` loopback transport,
+// playing the load-cell and valve modules (docs/can-protocol.md), over the in-process `udp:` loopback transport,
 // with the fault-injecting wrapper (hal/linux/faulty_can_transport.hpp) on the indicator's side.
 // One thread, lockstep: per plant jiffy k the plant sends its valve feedback and sample k, the board
 // runs what arrived, and the plant takes the 0x220 carrying k. An answer that does not come is what
 // a real-time valve module would live through: the plant waits one jiffy of wall time for it (the
 // board keeps running meanwhile, so its timers fire), keeps the last command, and closes after
-// 50 ms without one (SPEC §4's watchdog). The plant's truth is the measure, never the indicator.
+// 50 ms without one (the valve module's watchdog, docs/can-protocol.md). The plant's truth is the measure, never the indicator.
 #include <unistd.h>
 
 #include <chrono>
@@ -31,7 +31,7 @@ class CanFaultRig {
  public:
   static constexpr double kJiffyS = 0.010;
   static constexpr int kAnswerWaitMs = 10;            // one jiffy: then the exchange is lost
-  static constexpr std::uint32_t kWatchdogJiffies = 5;  // SPEC §4: no command for 50 ms -> close
+  static constexpr std::uint32_t kWatchdogJiffies = 5;  // docs/can-protocol.md: no command for 50 ms -> close
 
   explicit CanFaultRig(hal::linux_can::CanFaultPlan plan, const sim::Scene& scene = sim::default_scene(),
                        std::uint64_t seed = 1)

@@ -30,7 +30,7 @@ except ImportError:
 
 TARGET_G = 5000
 COMMAND_RUNNING = 0xFFFF
-# Input registers (README "PLC / Modbus").
+# Input registers (docs/plc-modbus.md).
 NET, STATE, FAULT, VALVE, RESULT_SEQ, FINAL, ERROR, TIME, TOLERANCE, TOPUPS, IN_FLIGHT, FLOW = (
     0, 2, 3, 4, 5, 6, 8, 10, 12, 13, 14, 16)
 

@@ -3,7 +3,7 @@
 can-raw, can-dev and vcan modules), runs `dynweigh plant --can socketcan:vcan0` and
 `dynweigh-fw --plant can:socketcan:vcan0` with `dose 5000`, and `candump -L vcan0` beside them.
 Passes when the dose reaches its target by the plant's truth and candump shows well-formed frames
-of every kind of SPEC §4. The host kernel has no CAN, hence the guest.
+of every kind in docs/can-protocol.md. The host kernel has no CAN, hence the guest.
 
 The kernel comes from `apt-get download linux-image-6.1.0-<abi>-amd64` unpacked with `dpkg -x` into
 $DYNWEIGH_GUEST_KERNEL (default /opt/dynweigh-guest-kernel); .ci/run does that. The host binaries

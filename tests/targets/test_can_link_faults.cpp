@@ -1,5 +1,5 @@
-// CAN link faults (issue 8) over the in-process udp loopback: the indicator on the Linux CAN board,
-// the simulated plant as the SPEC §4 modules, the fault-injecting transport between them
+// CAN link faults over the in-process udp loopback: the indicator on the Linux CAN board,
+// the simulated plant as the modules of docs/can-protocol.md, the fault-injecting transport between them
 // (tests/support/can_fault_rig.hpp). Dropped, duplicated and reordered frames must leave a dose
 // within one jiffy of flow of the healthy one; a silent bus and a bus-off must close the valve in
 // the jiffy they are found, name themselves in `status`, refuse `dose` with ERR 4, stay latched

@@ -1,4 +1,4 @@
-// SPEC §4 frame codec: byte layout, round trips, and the frames a decoder must refuse.
+// The CAN frame codec (docs/can-protocol.md): byte layout, round trips, and the frames a decoder must refuse.
 #include <gtest/gtest.h>
 
 #include "dynweigh/hal/can/protocol.hpp"

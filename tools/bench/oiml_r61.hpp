@@ -1,5 +1,5 @@
 #pragma once
-// OIML R61 accuracy classes for automatic gravimetric filling instruments (shared/PHYSICS.md §4,
+// OIML R61 accuracy classes for automatic gravimetric filling instruments (docs/benchmarks.md,
 // as enacted in UK SI 2000/388 schedule 5 and SI 2006/1258): the maximum permissible deviation
 // of each fill from the mean of the fills, for class X(1); class X(x) multiplies it by x.
 namespace dynweigh::tools {

@@ -1,4 +1,4 @@
-// dynweigh: the project's command-line tool (SPEC §5). One subcommand per job.
+// dynweigh: the project's command-line tool (docs/programs.md). One subcommand per job.
 #include <cstdio>
 #include <cstring>
 

@@ -91,7 +91,7 @@ class CsvTrace {
   ~CsvTrace() { std::fclose(file_); }
   CsvTrace(const CsvTrace&) = delete;
   CsvTrace& operator=(const CsvTrace&) = delete;
-  // The plant's truth is not known with an external plant: its columns stay empty (SPEC §5).
+  // The plant's truth is not known with an external plant: its columns stay empty (docs/programs.md).
   void write(std::uint32_t jiffy, const firmware::Indicator& indicator, const firmware::Outputs& out, std::int32_t raw) {
     std::fprintf(file_, "%.2f,%u,,,,%d,%.1f,%d\n", jiffy * 0.01, jiffy, raw, double(indicator.filtered_weight_g()),
                  static_cast<int>(out.valve));

@@ -1,4 +1,4 @@
-// dynweigh-fw: the indicator firmware on a host, against the in-process plant (SPEC §5).
+// dynweigh-fw: the indicator firmware on a host, against the in-process plant (docs/programs.md).
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -192,8 +192,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--modbus", options.modbus,
                  "serve a PLC: tcp:<host>:<port> (Modbus TCP) or rtu:<device>:<baud>:<8N1|8E1|8O1>:<unit id> "
-                 "(Modbus RTU); may be given twice (TCP and RTU at once). The register map is in the README, "
-                 "\"PLC / Modbus\". With --modbus the end of stdin does not end the program; SIGINT or SIGTERM "
+                 "(Modbus RTU); may be given twice (TCP and RTU at once). The register map is in "
+                 "docs/plc-modbus.md. With --modbus the end of stdin does not end the program; SIGINT or SIGTERM "
                  "does, printing modbus_requests= and the loop's jiffy timing (loop_jiffy_worst_us=) on stderr")
       ->check([](const std::string& text) {
         std::string error;

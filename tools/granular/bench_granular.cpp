@@ -1,5 +1,5 @@
 // dynweigh-bench-granular: run time against error of every Poisson solver, and the DEM's
-// particle-steps per second on the peer's 2D silo (shared/peers/in.silo2d.*).
+// particle-steps per second on the LAMMPS peer's 2D silo (in.silo2d.*; tools/granular/compare_lammps.sh).
 //
 // Poisson: "error" is the largest difference to the converged discrete solution (a multigrid
 // solve to a residual of 1e-10), so 1e-8 is reachable on every grid; the solvers stop on the

@@ -1,5 +1,5 @@
 // dynweigh calibrate --from dem|soc|fluid --scene NAME [--out FILE]: runs a detail model of the
-// scene and writes the lumped parameters it gives into a scene file (issue 5 item 4).
+// scene and writes the lumped parameters it gives into a scene file.
 // The DEM runs are the jobs of a scenario grid (tools/grid): threads, or MPI ranks under mpirun,
 // journalled for --resume; each run is seeded by its job (the dose's seed, the sweep width's seed),
 // never by a rank or a thread, so every way of running it writes the same scene.

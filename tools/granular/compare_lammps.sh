@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the peer LAMMPS 2D silo (shared/peers/in.silo2d.fill, then in.silo2d.dis -var n N for each
+# Runs the peer LAMMPS 2D silo (in.silo2d.fill, then in.silo2d.dis -var n N for each
 # orifice) and dynweigh's DEM on the same problem (same discs, Hooke + history contact, friction,
 # step, orifice, stop count and fit window), one after the other on one core, and prints a table:
 # discharge rates (discs per sqrt(d/g)) and particle-steps per second of both.
@@ -7,11 +7,11 @@
 # Speed is taken from CPU time: LAMMPS' "Loop time" x its "% CPU use" line, ours from std::clock();
 # on a machine shared with other jobs wall-clock rates mostly measure the load (both are printed
 # as key=value lines as well). Compare ratios measured back to back, not absolute rates
-# (peers/README.md). The LAMMPS fill runs once; its restart feeds every orifice.
+# (the LAMMPS runs were measured that way too). The LAMMPS fill runs once; its restart feeds every orifice.
 #
 # usage: tools/granular/compare_lammps.sh [ORIFICE ...]     (default: 5 8 10 15)
 # env:   DYNWEIGH_GRANULAR  path of the dynweigh-granular runner (default: searched in build dirs)
-#        PEERS              folder with in.silo2d.fill / in.silo2d.dis (default: ../shared/peers)
+#        PEERS              folder with the LAMMPS inputs in.silo2d.fill / in.silo2d.dis (required; not in this repository)
 #        LMP                LAMMPS binary (default: lmp)
 #        FILL_STEPS         settling steps (peer: 120000)
 #        MAX_STEPS          discharge steps at most (peer: 600000)
@@ -22,7 +22,7 @@ set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
-peers="${PEERS:-$repo/../shared/peers}"
+peers="${PEERS:-}"
 lmp="${LMP:-lmp}"
 fill_steps="${FILL_STEPS:-120000}"
 max_steps="${MAX_STEPS:-600000}"
@@ -31,6 +31,10 @@ if [[ $# -gt 0 ]]; then orifices=("$@"); else orifices=(5 8 10 15); fi
 
 if ! command -v "$lmp" > /dev/null 2>&1; then
   echo "compare_lammps: skipped: LAMMPS ('$lmp') is not installed (apt-get install -y lammps)"
+  exit 77
+fi
+if [[ -z "$peers" ]]; then
+  echo "compare_lammps: skipped: PEERS names no folder with the LAMMPS inputs in.silo2d.fill and in.silo2d.dis"
   exit 77
 fi
 if [[ ! -f "$peers/in.silo2d.fill" || ! -f "$peers/in.silo2d.dis" ]]; then
@@ -126,7 +130,7 @@ $(value fill_seconds "$ours")")
 done
 
 echo
-echo "== dynweigh DEM against LAMMPS, 2D silo of shared/peers ($particles discs; rates in discs per sqrt(d/g);"
+echo "== dynweigh DEM against LAMMPS, 2D silo of $peers ($particles discs; rates in discs per sqrt(d/g);"
 echo "   speed in million particle-steps per CPU second, one core)"
 printf '%-8s %12s %12s %8s %12s %12s %7s\n' orifice lammps_rate ours_rate diff_% lammps_Mps/s ours_Mps/s ratio
 for row in "${rows_out[@]}"; do
@@ -148,7 +152,7 @@ awk -v row="${rows_out[-1]}" -v lps="$lmp_fill_ps" -v lcpu="$lmp_fill_cpu" 'BEGI
   printf "%-8s %12s %12s %8s %12.2f %12.2f %7.2f\n", "fill", "-", "-", "-", l, o, ratio
 }'
 # 2D Beverloo W = C (D - k d)^1.5 fitted to each code's rates (least squares on W^(2/3), as
-# fit_beverloo_2d); the peer README's fit is C = (4/pi) 1.003 = 1.277, k = 1.50.
+# fit_beverloo_2d); LAMMPS' own fit over orifices of 5..15 d is C = (4/pi) 1.003 = 1.277, k = 1.50.
 if [[ ${#rows_out[@]} -ge 3 ]]; then
   printf '%s\n' "${rows_out[@]}" | awk '
     function fit(col, name,   i, mx, my, sxy, sxx, b, a) {

@@ -3,7 +3,7 @@
 //   dynweigh soc ...      SOC sandpiles (thesis section 3.2)
 //   dynweigh poisson ...  Poisson duct flow (section 3.3)
 //   dynweigh dem ...      2D DEM (section 3.4)
-//   dynweigh calibrate .. a lumped scene from one of them (issue 5 item 4)
+//   dynweigh calibrate .. a lumped scene from one of them
 // argv[0] is the subcommand's name. Each prints key=value summary lines on stdout, writes a CSV
 // with a header line with --csv FILE, and on bad input prints one line on stderr and returns
 // non-zero (2 for usage errors, 1 for a run that fails).

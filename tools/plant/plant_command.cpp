@@ -1,4 +1,4 @@
-// dynweigh plant: the load-cell module (0x190) and the valve module (0x220 in, 0x1A0 out) of SPEC §4
+// dynweigh plant: the load-cell module (0x190) and the valve module (0x220 in, 0x1A0 out) of docs/can-protocol.md
 // played by the simulator or by a recording, on any CAN transport.
 //
 // Lockstep (default): wait until the indicator is heard (any frame of node 1), then for each jiffy
@@ -38,7 +38,7 @@ using hal::linux_can::CanTransport;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kJiffyS = 0.010;
-constexpr int kWatchdogJiffies = 5;  // SPEC §4: no command for 50 ms -> close
+constexpr int kWatchdogJiffies = 5;  // docs/can-protocol.md: no command for 50 ms -> close
 
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
@@ -303,7 +303,7 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
 int run_plant_command(int argc, char** argv) {
   Options options;
   CLI::App app{"dynweigh plant: the simulator as the load-cell (0x190) and valve (0x220/0x1A0) modules of\n"
-               "SPEC §4 on a CAN transport. Lockstep by default: sample k goes out, the plant waits for the\n"
+               "docs/can-protocol.md on a CAN transport. Lockstep by default: sample k goes out, the plant waits for the\n"
                "0x220 carrying counter k, applies it with its delay, advances one jiffy. Prints key=value\n"
                "lines at the end (final_static_kg= is the plant's truth).",
                "dynweigh plant"};

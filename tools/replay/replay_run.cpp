@@ -173,7 +173,7 @@ ReplaySummary replay_samples(const RecordedSamples& samples, const ReplayOptions
     jiffy.load_cell.raw_counts = samples.samples[i].raw_counts;
     jiffy.load_cell.counter = std::uint16_t(i & 0xffffu);
     const int valve = samples.samples[i].valve;
-    // The feedback a valve module would have sent: as recorded, open = 3, half = 2 (SPEC §4).
+    // The feedback a valve module would have sent: as recorded, open = 3, half = 2 (docs/can-protocol.md).
     jiffy.valve_position = valve == 2   ? firmware::ValvePosition::open
                            : valve == 1 ? firmware::ValvePosition::half
                                         : firmware::ValvePosition::closed;

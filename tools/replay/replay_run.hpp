@@ -1,7 +1,7 @@
 #pragma once
 // Recorded inputs through the same firmware::Indicator::step the firmware runs, jiffy by jiffy,
-// and what it decided (shared/DESIGN.md: "replay: recorded samples -> step -> same decisions, bit
-// for bit").
+// and what it decided: recorded samples through the step give the same decisions, bit
+// for bit.
 //
 // Two kinds of replay, and the difference matters to whoever reads the result:
 // - an inputs recording (dynweigh-fw --record) replays closed-loop exactly: the indicator gets the

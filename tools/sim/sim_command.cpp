@@ -32,7 +32,7 @@ std::string scene_list() {
 }  // namespace
 
 int run_sim_command(int argc, char** argv) {
-  CLI::App app{"Run a plant scene open-loop with a valve schedule and write the cycle CSV (SPEC section 5).\n"
+  CLI::App app{"Run a plant scene open-loop with a valve schedule and write the cycle CSV (docs/programs.md).\n"
                "Scenes: built-in default and ideal, and <name>.json in the scenes folder: $DYNWEIGH_SCENES, else\n"
                "the installed ../share/dynweigh/scenes beside the program, else the source tree's scenes/.",
                "dynweigh sim"};

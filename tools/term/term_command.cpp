@@ -1,4 +1,4 @@
-// dynweigh term: talk to an indicator's console on a serial device or pty (SPEC §3).
+// dynweigh term: talk to an indicator's console on a serial device or pty (docs/console.md).
 // Interactive on a terminal (own line editing and history); with --send, or with commands piped
 // to stdin, it sends each line once the previous one was answered (OK or ERR), as a person would,
 // and can capture `readtestdata` records into a CSV.

@@ -1,5 +1,5 @@
 // The Cortex-M4F image: the same firmware library as the host, on a board with a console UART and a
-// plant link carrying the CAN frames of SPEC §4 as SLCAN lines. One jiffy per 0x190 sample (the
+// plant link carrying the CAN frames of docs/can-protocol.md as SLCAN lines. One jiffy per 0x190 sample (the
 // load-cell module paces the loop, lockstep or real time alike); SysTick counts 10 ms for the
 // heartbeat and, once the board's `kLinkSilenceTicks` pass without a sample, for jiffies without
 // one. Samples are put in order by their counter (hal/can/sample_sequence.hpp), as on Linux: a

@@ -1,4 +1,4 @@
-// SPEC §4 slcan transport: Lawicel ASCII on a serial line, a pty, or a unix-domain socket (QEMU's
+// The slcan transport (docs/can-protocol.md): Lawicel ASCII on a serial line, a pty, or a unix-domain socket (QEMU's
 // `-chardev socket,path=P,server=on`, so a board in QEMU is reached without a pty in between).
 #include <fcntl.h>
 #include <poll.h>

@@ -1,4 +1,4 @@
-// SPEC §4 socketcan transport: a raw CAN socket bound to one interface (can0, vcan0).
+// The socketcan transport (docs/can-protocol.md): a raw CAN socket bound to one interface (can0, vcan0).
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>

@@ -1,4 +1,4 @@
-// SPEC §4 udp transport: each datagram is one 16-byte Linux struct can_frame. Binds 127.0.0.1.
+// The udp transport (docs/can-protocol.md): each datagram is one 16-byte Linux struct can_frame. Binds 127.0.0.1.
 #include <arpa/inet.h>
 #include <netdb.h>
 #include <netinet/in.h>

@@ -1,6 +1,6 @@
 #pragma once
 // Assembles console lines: a line ends at CR, LF or CR LF, empty lines are ignored, and a line
-// longer than 80 characters is discarded whole (SPEC §3) and reported once at its end. A line of
+// longer than 80 characters is discarded whole (docs/console.md) and reported once at its end. A line of
 // only spaces and tabs is empty too, and NUL bytes (a UART break, terminal padding) are dropped,
 // so every line the reader completes is a command the indicator answers exactly once.
 //

@@ -3,7 +3,7 @@
 
 namespace dynweigh::firmware {
 
-// SPEC §3 `dose <grams> [<strategy>]`.
+// docs/console.md: `dose <grams> [<strategy>]`.
 enum class DosingStrategy : std::uint8_t { model = 0, preact = 1, twostage = 2, learn = 3, pac = 4, flowpreact = 5 };
 inline constexpr int kDosingStrategyCount = 6;
 

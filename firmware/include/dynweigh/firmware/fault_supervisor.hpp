@@ -1,5 +1,5 @@
 #pragma once
-// Watches the load cell, the valve and the flow once per jiffy and names what broke (issue 8).
+// Watches the load cell, the valve and the flow once per jiffy and names what broke.
 // The Indicator raises what it reports: the valve closes in the same jiffy, the fault latches.
 //
 // - Outliers: a sample further than kOutlierFractionOfCapacity x Max from the last good one moved

@@ -1,5 +1,5 @@
 #pragma once
-// The weigh indicator as a pure step function (shared/DESIGN.md): one call per jiffy with that
+// The weigh indicator as a pure step function: one call per jiffy with that
 // jiffy's Inputs, returning its Outputs. No hardware, no clock, no heap, no blocking; the console's
 // answers accumulate in a transmit ring that the board drains at its own pace.
 #include <cstddef>

@@ -9,7 +9,7 @@ namespace dynweigh::firmware {
 
 enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
 
-// SPEC §4, 0x1A0: 0 closed, 1 moving, 2 half, 3 open.
+// 0x1A0 (docs/can-protocol.md): 0 closed, 1 moving, 2 half, 3 open.
 enum class ValvePosition : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
 
 // The link that carries the samples, as the board sees it this jiffy. A board without a bus (an ADC
@@ -23,7 +23,7 @@ enum class LinkStatus : std::uint8_t {
 struct LoadCellInput {
   std::int32_t raw_counts = 0;
   std::uint16_t counter = 0;
-  std::uint8_t status = 0;  // SPEC §4: bit0 overload, bit1 underload, bit2 ADC error
+  std::uint8_t status = 0;  // docs/can-protocol.md: bit0 overload, bit1 underload, bit2 ADC error
   bool fresh = true;        // false: no sample arrived this jiffy
   LinkStatus link = LinkStatus::ok;
 };
@@ -53,7 +53,7 @@ enum class IndicatorState : std::uint8_t { idle = 0, dosing = 1, settling = 2, f
 
 struct Outputs {
   ValveCommand valve = ValveCommand::closed;
-  std::uint8_t valve_delay_100us = 0;  // SPEC §4 0x220: apply the command this much into the jiffy
+  std::uint8_t valve_delay_100us = 0;  // 0x220 (docs/can-protocol.md): apply the command this much into the jiffy
   std::uint16_t answered_counter = 0;  // the sample this jiffy answers
   IndicatorState state = IndicatorState::idle;
   std::int32_t weight_100mg = 0;       // the 0x181 status frame's weight, or kWeightUnknown100mg

@@ -2,7 +2,7 @@
 // The `model` strategy's view of a fill: from the first impact a Kalman observer separates the
 // static mass and the landing rate from the platform's ringing (no filter lag; `model_estimator
 // line` fits a line to the unfiltered weight instead, once the ringing has calmed), and the final
-// weight follows from the ideal model of PHYSICS §1 (corrected sign), the pile's rise and the
+// weight follows from the ideal model of docs/physics.md (corrected sign), the pile's rise and the
 // valve's let-through. Before the first impact it has no measurement and predicts from the
 // configured geometry and the valve's timing instead.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// The tunables of SPEC §3 and the firmware's own, each declared once with its range, default
+// The tunables of the console's `param` (docs/console.md) and the firmware's own, each declared once with its range, default
 // and description: the `param` command, persistence and the defaults all read this one table.
 #include <cstddef>
 #include <cstdint>

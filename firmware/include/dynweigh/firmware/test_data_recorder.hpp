@@ -1,5 +1,5 @@
 #pragma once
-// The test-data recorder of the thesis' indicator (shared/seed §2.2): 1000 jiffies of raw counts,
+// The test-data recorder of the thesis' indicator (its section 2.2): 1000 jiffies of raw counts,
 // filtered weight and valve marker, started by `starttestdata` or a dose, read by `readtestdata`.
 #include <cstddef>
 #include <cstdint>

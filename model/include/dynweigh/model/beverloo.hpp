@@ -1,7 +1,7 @@
 #pragma once
 // Beverloo's law for the discharge of a granular bed through a circular orifice:
 // W = C rho_b sqrt(g) (D - k d)^(5/2). The rate does not depend on the fill level (Janssen),
-// which is why it, not Torricelli, governs a silo. Reference values: shared/PHYSICS.md §3.
+// which is why it, not Torricelli, governs a silo. Reference values: docs/physics.md.
 #include <cmath>
 
 namespace dynweigh::model {

@@ -1,5 +1,5 @@
 #pragma once
-// The final static weight if the valve were told to close now (shared/PHYSICS.md §1).
+// The final static weight if the valve were told to close now (docs/physics.md).
 // The reading holds the static mass plus the momentum flux of the landing stream; the material in
 // flight is still to come; together, in the ideal limit, that is the reading minus mdot v0 / g (the
 // corrected sign). Beyond the ideal limit: the pile top rises, so material lands faster than it

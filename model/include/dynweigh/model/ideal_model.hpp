@@ -1,6 +1,6 @@
 #pragma once
 // The ideal model of thesis chapter 1 (table 2.1), with the sign of eq. 1.14 corrected
-// (shared/PHYSICS.md §1): material leaves the orifice at v0 and falls a height h.
+// (docs/physics.md): material leaves the orifice at v0 and falls a height h.
 #include <cmath>
 
 namespace dynweigh::model {

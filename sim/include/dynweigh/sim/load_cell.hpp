@@ -13,7 +13,7 @@ namespace dynweigh::sim {
 struct LoadCellSample {
   std::int32_t raw_counts = 0;
   std::uint16_t counter = 0;
-  std::uint8_t status = 0;  // SPEC §4: bit0 overload, bit1 underload, bit2 ADC error
+  std::uint8_t status = 0;  // docs/can-protocol.md: bit0 overload, bit1 underload, bit2 ADC error
 };
 
 inline constexpr std::uint8_t kStatusOverload = 0x01;

@@ -1,6 +1,6 @@
 #pragma once
 // A scene: the parameters of every component and which effects are switched on. The defaults are
-// the thesis' real setup (shared/seed §2.2, table 2.2) with the disturbances fixed by SPEC §2.
+// the thesis' real setup (its section 2.2, table 2.2) with the disturbances of the default scene (docs/scenes.md).
 // Scenes other than the two built in here live as JSON files in scenes/ (scene_file.hpp).
 #include <optional>
 #include <string>
@@ -10,15 +10,15 @@ namespace dynweigh::sim {
 
 struct SiloParameters {
   double bore_m = 0.060;                 // thesis table 2.2
-  double bulk_density = 1550.0;          // dry sand, kg/m^3 (PHYSICS §3)
-  double beverloo_C = 0.58;              // PHYSICS §3
-  double beverloo_k = 1.5;               // PHYSICS §3
-  double grain_d_m = 0.0005;             // PHYSICS §3
+  double bulk_density = 1550.0;          // dry sand, kg/m^3 (docs/physics.md)
+  double beverloo_C = 0.58;              // docs/physics.md
+  double beverloo_k = 1.5;               // docs/physics.md
+  double grain_d_m = 0.0005;             // docs/physics.md
   double fill_kg = 18.0;                 // "approximately 18 kg of dry sand"
   double alpha_start = 0.6;              // flow fraction at the first instant of opening
   double alpha_settle_s = 0.15;          // start-up settling time constant of alpha
-  double fluctuation_rms = 0.03;         // SPEC §2
-  double fluctuation_correlation_s = 0.15;  // SPEC §2
+  double fluctuation_rms = 0.03;         // docs/scenes.md
+  double fluctuation_correlation_s = 0.15;  // docs/scenes.md
   // Thesis eq. 3.16 (mdot = alpha v0 A rho): the outflow's mean-to-peak speed across the bore,
   // from `dynweigh calibrate --from dem|fluid`; 1 is plug flow. The plant takes the rate from
   // Beverloo and v0 as the mean speed mdot / (A rho), so alpha is the scene's record of the
@@ -27,9 +27,9 @@ struct SiloParameters {
 };
 
 struct ValveParameters {
-  double dead_time_s = 0.030;            // SPEC §2
-  double dead_time_jitter_s = 0.002;     // SPEC §2, rms
-  double full_stroke_s = 0.080;          // SPEC §2, fast; slow: 0.200
+  double dead_time_s = 0.030;            // docs/scenes.md
+  double dead_time_jitter_s = 0.002;     // docs/scenes.md, rms
+  double full_stroke_s = 0.080;          // docs/scenes.md, fast; slow: 0.200
 };
 
 struct ColumnParameters {
@@ -65,15 +65,15 @@ struct AvalancheParameters {
 struct PlatformParameters {
   bool rigid = false;
   double container_kg = 4.0;
-  double natural_hz = 12.0;              // SPEC §2, with the empty container
-  double damping_ratio = 0.05;           // SPEC §2
+  double natural_hz = 12.0;              // docs/scenes.md, with the empty container
+  double damping_ratio = 0.05;           // docs/scenes.md
 };
 
 struct LoadCellParameters {
   double capacity_kg = 50.0;             // 50,000 d of 1 g
   double counts_per_kg = 1000.0;         // one count per scale division
   double zero_counts = 8000.0;           // ADC offset of the unloaded cell
-  double noise_counts_rms = 0.3;         // SPEC §2: 0.3 d
+  double noise_counts_rms = 0.3;         // docs/scenes.md: 0.3 d
   double overload_fraction = 1.1;        // saturates above 110 % of capacity
 };
 
@@ -95,7 +95,7 @@ struct HourglassParameters {
 
 struct Scene {
   std::string name = "default";
-  std::string source = "thesis table 2.2 (real setup), disturbances SPEC section 2";
+  std::string source = "thesis table 2.2 (real setup), disturbances of docs/scenes.md";
   double g = 9.81;
   double internal_step_s = 0.001;        // plant steps per 10 ms jiffy: 10
   SiloParameters silo;

@@ -1,7 +1,7 @@
 #pragma once
 // The silo and its orifice: Beverloo's rate through the gate's open area (independent of the fill
 // level, Janssen), scaled by the start-up settling alpha(t) (thesis eq. 3.16) and a seeded,
-// correlated fluctuation (SPEC §2). The fill level matters only when the silo runs empty.
+// correlated fluctuation (docs/scenes.md). The fill level matters only when the silo runs empty.
 //
 // Every term is integrated exactly over a step, so the let-through converges as the step shrinks:
 // - the stroke's effect through a set-up table (stroke_discharge_table.hpp);

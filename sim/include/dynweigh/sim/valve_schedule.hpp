@@ -9,7 +9,7 @@
 
 namespace dynweigh::sim {
 
-inline constexpr double kJiffyS = 0.010;  // SPEC §2
+inline constexpr double kJiffyS = 0.010;  // the indicator's jiffy
 
 struct ScheduledCommand {
   std::uint32_t jiffy;

@@ -17,7 +17,7 @@ namespace dynweigh::granular {
 struct AvalancheForceModel {
   double grain_mass_kg = 1e-6;    // mass of one lattice unit of grain
   double step_height_m = 0.5e-3;  // height of one lattice step (one grain diameter)
-  double gravity_m_s2 = 9.81;     // SPEC section 2
+  double gravity_m_s2 = 9.81;     // standard gravity
 
   double wave_period_s() const { return std::sqrt(2.0 * step_height_m / gravity_m_s2); }
   double amplitude_n(const Avalanche& avalanche) const {

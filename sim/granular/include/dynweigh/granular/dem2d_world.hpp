@@ -30,7 +30,7 @@ struct Dem2dSettings {
   ContactParameters contact;
   double time_step_s = 5e-4;
   double gravity_x = 0.0;
-  double gravity_y = -9.81;  // SPEC section 2; scenes in reduced units set -1
+  double gravity_y = -9.81;  // standard gravity; scenes in reduced units set -1
   double skin = 0.3;         // neighbour-list skin (peer: "neighbor 0.3 bin")
   // Domain of the cell list; discs outside are still handled (clamped into border cells).
   double domain_min_x = 0, domain_min_y = 0, domain_max_x = 1, domain_max_y = 1;

@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of a lumped scene from the 2D DEM of the same scene (issue 5 item 4): the DEM
+// Calibration of a lumped scene from the 2D DEM of the same scene: the DEM
 // runs are a list of independent jobs, each a pure function of (job, seed) returning one result
 // row, so they can run on threads here or be handed to another back-end; the fit then turns the
 // rows into the scene's lumped parameters:

@@ -1,11 +1,11 @@
 #pragma once
 // The linear spring-dashpot contact of Cundall & Strack (1979) in the form LAMMPS' pair
-// gran/hooke/history uses (so the peer inputs of shared/peers/ mean the same numbers here):
+// gran/hooke/history uses (so the LAMMPS inputs of the same silo mean the same numbers here):
 //   normal:     F_n = k_n delta - m_eff gamma_n v_n
 //   tangential: F_t = -(k_t s + m_eff gamma_t v_t), |F_t| <= mu |F_n|, s the accumulated
 //               tangential displacement (the contact's history).
 // With c = m_eff gamma_n, the damping ratio is zeta = c / (2 sqrt(k_n m_eff)) and
-// (PHYSICS.md section 3) e = exp(-pi zeta / sqrt(1 - zeta^2)), t_c = pi / sqrt(k_n/m_eff - (c/2m_eff)^2).
+// (docs/scenes.md, references) e = exp(-pi zeta / sqrt(1 - zeta^2)), t_c = pi / sqrt(k_n/m_eff - (c/2m_eff)^2).
 #include <cmath>
 
 namespace dynweigh::granular {

@@ -12,7 +12,7 @@
 // - Lengths the discs see are the scene's: fall height, container width, bore; g is real.
 // - The silo is `silo_width_bores` bores wide and holds `fill_discs` discs: enough for the
 //   opening time, not the scene's 18 kg.
-// - Contacts: the peer silo's (shared/peers/in.silo2d.*: k_n 2e4, gamma_n 97, mu 0.5 in units
+// - Contacts: the LAMMPS silo's (in.silo2d.*: k_n 2e4, gamma_n 97, mu 0.5 in units
 //   of d, disc mass and sqrt(d/g)), time step 5e-4 sqrt(d/g) (about 1/28 of a contact).
 // The gate follows the scene's valve: after the dead time it opens the slot at a constant stroke
 // speed, the open width being the width of the round bore's open area (model/bore_area.hpp), and

@@ -45,7 +45,7 @@ FlowProfile flow_profile(const PoissonProblem& problem, const std::vector<double
 
 // Series solution for laplacian(u) = -1 on the unit square, u = 0 on the wall (separation of
 // variables): u = x(1-x)/2 - (4/pi^3) sum_{k odd} sin(k pi x) cosh(k pi (y-1/2)) / (k^3 cosh(k pi/2)),
-// mean = 1/12 - (16/pi^5) sum_{k odd} tanh(k pi/2) / k^5. PHYSICS.md: max 0.0736713, mean 0.0351442.
+// mean = 1/12 - (16/pi^5) sum_{k odd} tanh(k pi/2) / k^5. docs/scenes.md: max 0.0736713, mean 0.0351442.
 double unit_square_series_value(double x, double y);
 double unit_square_series_mean();
 

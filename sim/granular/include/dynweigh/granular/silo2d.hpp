@@ -1,5 +1,5 @@
 #pragma once
-// The 2D flat-bottom silo of the peer inputs (shared/peers/in.silo2d.fill, in.silo2d.dis), in
+// The 2D flat-bottom silo of the LAMMPS peer inputs (in.silo2d.fill, in.silo2d.dis), in
 // the same reduced (LJ) units: d = 1, g = 1, disc density 1 per area, time in sqrt(d/g).
 // Side walls are the planes x = 0 and x = width; the bottom is a row of fixed discs of
 // diameter 1 at y = 0, x = 0, 1, .., width; the orifice is opened by removing n of them around

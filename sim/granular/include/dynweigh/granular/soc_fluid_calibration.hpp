@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of a lumped scene from the SOC heap and from Poisson duct flow (issue 5 item 4).
+// Calibration of a lumped scene from the SOC heap and from Poisson duct flow.
 // SOC: the thesis' extended 2D heap, a cross-section of the container one grain per cell, fed
 // at its centre; its large avalanches give the avalanche component (SocCalibrator: critical
 // mass, F_a, duration) and its height against the grains added the pile height law

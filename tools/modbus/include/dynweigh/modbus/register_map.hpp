@@ -1,5 +1,5 @@
 #pragma once
-// The PLC's view of the indicator (the register map in README "PLC / Modbus"), as a pure function
+// The PLC's view of the indicator (the register map in docs/plc-modbus.md), as a pure function
 // of a request's PDU: which registers exist, which values they take, how a 32-bit set point is
 // written, and which console command a write to the command register stands for. No sockets, no
 // threads, no libmodbus: the servers hand it the PDU libmodbus framed, and the fuzzer hands it

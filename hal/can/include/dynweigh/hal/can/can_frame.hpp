@@ -20,7 +20,7 @@ inline bool operator==(const CanFrame& a, const CanFrame& b) {
   return true;
 }
 
-// The 16-byte Linux `struct can_frame` (SPEC §4, udp transport): can_id u32 little-endian with the
+// The 16-byte Linux `struct can_frame` (docs/can-protocol.md, udp transport): can_id u32 little-endian with the
 // EFF (bit 31) and RTR (bit 30) flags, len u8, 3 pad bytes, data[8].
 inline constexpr unsigned kLinuxFrameSize = 16;
 inline constexpr std::uint32_t kLinuxEffFlag = 0x80000000u;

@@ -1,5 +1,5 @@
 #pragma once
-// The plant link of SPEC §4: CANopen COB-IDs (CiA 301), little-endian payloads, one sample per
+// The plant link (docs/can-protocol.md): CANopen COB-IDs (CiA 301), little-endian payloads, one sample per
 // jiffy. One encode/decode pair per message; a decoder returns false (and leaves its output alone)
 // for a frame with another identifier, the wrong DLC, an extended or remote frame, or a value out
 // of range.

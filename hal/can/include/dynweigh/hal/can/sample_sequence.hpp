@@ -1,5 +1,5 @@
 #pragma once
-// The load-cell module's sample counter (SPEC §4, 0x190 bytes 4..5) as the indicator's clock on a
+// The load-cell module's sample counter (docs/can-protocol.md, 0x190 bytes 4..5) as the indicator's clock on a
 // link that may lose, repeat or reorder frames. One jiffy per sample:
 // - the same counter again is the same sample (a duplicated frame): no jiffy, no second answer;
 // - a counter a little behind the last one is a frame overtaken by a newer one: discarded, since the

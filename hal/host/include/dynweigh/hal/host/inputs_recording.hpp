@@ -2,7 +2,7 @@
 // A recording of everything the indicator saw, jiffy by jiffy (every firmware::Inputs, console
 // bytes included), with the settings it started from: `dynweigh-fw --record FILE` writes it,
 // `dynweigh replay FILE` feeds it through the same Indicator::step and gets the same decisions,
-// bit for bit (shared/DESIGN.md). Like ArduPilot's AP_DAL log, it holds the inputs, not the
+// bit for bit. Like ArduPilot's AP_DAL log, it holds the inputs, not the
 // plant, so it replays on any build without the simulator.
 //
 // Each jiffy also carries the Outputs and console bytes the live run produced, so a replay can

@@ -11,7 +11,7 @@
 
 namespace dynweigh::hal::host {
 
-// One CSV row (SPEC §5): the plant's truth beside the firmware's view, at the sample's instant.
+// One CSV row (docs/programs.md): the plant's truth beside the firmware's view, at the sample's instant.
 struct TraceRow {
   double t_s = 0.0;
   std::uint32_t jiffy = 0;

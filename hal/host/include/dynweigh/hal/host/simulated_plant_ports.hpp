@@ -27,7 +27,7 @@ class SimulatedValve final : public ValvePort {
   double jiffy_s_;
 };
 
-// An indicator freshly calibrated to this plant (SPEC §5: "starts calibrated to it").
+// An indicator freshly calibrated to this plant (docs/programs.md: "starts calibrated to the simulated plant").
 firmware::PersistentSettings factory_settings(const sim::Plant& plant);
 
 }  // namespace dynweigh::hal::host

@@ -1,5 +1,5 @@
 #pragma once
-// The Linux CAN board (SPEC §4): the indicator runs one jiffy per 0x190 load-cell sample and
+// The Linux CAN board (docs/can-protocol.md): the indicator runs one jiffy per 0x190 load-cell sample and
 // answers each with exactly one 0x220 valve command carrying the sample's counter, then its 0x181
 // status; a 0x700+1 heartbeat goes out every 10 jiffies and whenever the link is quiet for 100 ms.
 // Lockstep (a plant that waits for the answer) and real time (modules sending every 10 ms) are the
@@ -9,7 +9,7 @@
 // of wall time (a lockstep plant answers in microseconds; one that stops without its NMT-stopped
 // heartbeat is dead), so a silent bus becomes a fault there too.
 //
-// The link's faults (issue 8): samples are put in order by their counter (hal/can/
+// The link's faults: samples are put in order by their counter (hal/can/
 // sample_sequence.hpp: a duplicate runs no jiffy, a late one is discarded, a lost one is a jiffy
 // without a sample); each jiffy tells the indicator the link's status through the load cell's
 // sample (firmware::LinkStatus): `silent` when nothing at all came from the plant since the last

@@ -1,5 +1,5 @@
 #pragma once
-// A CAN link as the Linux target sees it (SPEC §4, "Transports"): frames in, frames out, one file
+// A CAN link as the Linux target sees it (docs/can-protocol.md, "Transports"): frames in, frames out, one file
 // descriptor to wait on. Three implementations carry exactly the same frames:
 //   socketcan:<ifname>                       raw CAN socket (PF_CAN, SOCK_RAW)
 //   udp:<bind_port>@<peer_host>:<peer_port>  16-byte struct can_frame datagrams on 127.0.0.1

@@ -1,11 +1,11 @@
 #pragma once
-// Fault injection on the CAN link (issue 8; ArduPilot SITL's habit of breaking things at the driver
+// Fault injection on the CAN link (ArduPilot SITL's habit of breaking things at the driver
 // edge): a CanTransport around another that drops, duplicates and delays (reorders) frames, at
 // chosen frame indices or with a seeded probability, in either direction, and that can go silent
 // or bus-off from a chosen load-cell sample on. Frame indices count the frames that passed through
 // in that direction (0-based); a link fault takes hold right after the received 0x190 frame number
 // `link_fault_at_sample - 1` (0: from the start), so nothing of the plant's jiffy
-// `link_fault_at_sample` arrives (on a SPEC §4 link the sample count is the plant's jiffy). What the indicator makes of each is the CAN board's business
+// `link_fault_at_sample` arrives (on a CAN link the sample count is the plant's jiffy). What the indicator makes of each is the CAN board's business
 // (hal/can/sample_sequence.hpp, can_board.hpp), not this wrapper's.
 #include <cstdint>
 #include <random>
