@@ -11,7 +11,7 @@
 #
 # usage: tools/granular/compare_lammps.sh [ORIFICE ...]     (default: 5 8 10 15)
 # env:   DYNWEIGH_GRANULAR  path of the dynweigh-granular runner (default: searched in build dirs)
-#        PEERS              folder with the LAMMPS inputs in.silo2d.fill / in.silo2d.dis (required; not in this repository)
+#        PEERS              folder with the LAMMPS inputs in.silo2d.fill / in.silo2d.dis (default: tools/granular/lammps)
 #        LMP                LAMMPS binary (default: lmp)
 #        FILL_STEPS         settling steps (peer: 120000)
 #        MAX_STEPS          discharge steps at most (peer: 600000)
@@ -22,7 +22,7 @@ set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
-peers="${PEERS:-}"
+peers="${PEERS:-$here/lammps}"
 lmp="${LMP:-lmp}"
 fill_steps="${FILL_STEPS:-120000}"
 max_steps="${MAX_STEPS:-600000}"
@@ -33,18 +33,13 @@ if ! command -v "$lmp" > /dev/null 2>&1; then
   echo "compare_lammps: skipped: LAMMPS ('$lmp') is not installed (apt-get install -y lammps)"
   exit 77
 fi
-if [[ -z "$peers" ]]; then
-  echo "compare_lammps: skipped: PEERS names no folder with the LAMMPS inputs in.silo2d.fill and in.silo2d.dis"
-  exit 77
-fi
 if [[ ! -f "$peers/in.silo2d.fill" || ! -f "$peers/in.silo2d.dis" ]]; then
   echo "compare_lammps: skipped: peer inputs not found in $peers"
   exit 77
 fi
 runner="${DYNWEIGH_GRANULAR:-}"
 if [[ -z "$runner" ]]; then
-  for candidate in "$repo"/build*/tools/granular/dynweigh-granular /tmp/build-dem/tools/granular/dynweigh-granular \
-                   /tmp/build-dem-h/tools_granular/dynweigh-granular; do
+  for candidate in "$repo"/build*/tools/granular/dynweigh-granular; do
     if [[ -x "$candidate" ]]; then runner="$candidate"; break; fi
   done
 fi
