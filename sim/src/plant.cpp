@@ -79,6 +79,28 @@ void Plant::command_valve(ValveCommand command, double delay_s) {
   valve_.command(command, truth_.time_s + delay_s);
 }
 
+void Plant::add_to_silo(double kg) {
+  if (!(kg > 0.0)) return;
+  silo_.add(kg);
+  truth_.refilled_kg += kg;
+  truth_.silo_kg = silo_.remaining_kg();
+}
+
+// The level switch starts the feeder below refill_below_kg; it runs until the silo is back at
+// its fill level. A scene without a level (0) is only refilled by a command.
+void Plant::refill_step() {
+  const SiloParameters& silo = scene_.silo;
+  if (silo.refill_below_kg > 0.0 && silo_.remaining_kg() < silo.refill_below_kg) truth_.refilling = true;
+  if (!truth_.refilling) return;
+  const double room_kg = silo.fill_kg - silo_.remaining_kg();
+  const double poured_kg = std::min(room_kg, silo.refill_rate_kg_s * dt_);
+  if (poured_kg > 0.0) {
+    silo_.add(poured_kg);
+    truth_.refilled_kg += poured_kg;
+  }
+  if (poured_kg >= room_kg) truth_.refilling = false;
+}
+
 double Plant::fall_height_m() {
   return pile_ ? pile_->fall_height_m(truth_.static_kg) : scene_.column.fall_height_m;
 }
@@ -115,6 +137,7 @@ void Plant::step() {
     }
     a = b;
   }
+  refill_step();
 
   const double fall = fall_height_m();
   const FallingColumn::Landing landing = column_.land(begin, end, fall);

@@ -293,6 +293,8 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
     std::printf("final_static_kg=%.6f\n", t.static_kg);
     std::printf("in_flight_kg=%.6f\n", t.in_flight_kg);
     std::printf("released_kg=%.6f\n", t.released_kg);
+    std::printf("silo_kg=%.6f\n", t.silo_kg);
+    std::printf("refilled_kg=%.6f\n", t.refilled_kg);
     std::printf("plant_time_s=%.3f\n", t.time_s);
   }
   std::fflush(stdout);

@@ -36,6 +36,8 @@ struct PlantTruth {
   double stroke = 0.0;
   double fall_height_m = 0.0;   // orifice to the present pile top
   double silo_kg = 0.0;         // still in the silo
+  double refilled_kg = 0.0;     // poured into the silo from upstream since the start
+  bool refilling = false;       // the upstream feeder runs
   double force_impulse_n_s = 0.0;  // exact time integral of force_n since the start
   std::uint64_t avalanches = 0;
 };
@@ -51,6 +53,12 @@ class Plant {
   // integrator adjusts the span with (`cal`). The platform rings from it; it is not in static_kg.
   void place_test_weight(double kg) { test_weight_kg_ = kg; }
   LoadCellSample sample() { return load_cell_.convert(support_force_n(), truth_.time_s); }
+
+  // Upstream supply (plant commands, beside the scene's automatic refill below
+  // silo.refill_below_kg): `kg` poured in at once, or a refill up to silo.fill_kg at
+  // silo.refill_rate_kg_s.
+  void add_to_silo(double kg);
+  void start_refill() { truth_.refilling = true; }
 
   const PlantTruth& truth() const { return truth_; }
   ValveFeedback valve_feedback() const { return valve_.feedback(); }
@@ -70,6 +78,7 @@ class Plant {
 
  private:
   void step();
+  void refill_step();
   double fall_height_m();
   double support_force_n() const { return platform_ ? platform_->support_force_n() : rigid_support_force_n_; }
 

@@ -24,6 +24,11 @@ struct SiloParameters {
   // Beverloo and v0 as the mean speed mdot / (A rho), so alpha is the scene's record of the
   // profile (the peak speed is v0 / alpha) and does not change the step.
   double flow_factor = 1.0;
+  // Upstream supply: when the silo holds less than refill_below_kg it is refilled at
+  // refill_rate_kg_s up to fill_kg (a level switch and a feeder). 0: never refilled, the silo
+  // runs dry as the thesis' rig does.
+  double refill_below_kg = 0.0;
+  double refill_rate_kg_s = 5.0;
 };
 
 struct ValveParameters {
