@@ -47,6 +47,9 @@ void visit_scene_fields(SceneT& s, Visit&& visit) {
         FieldRange{0.0, 1.0, false});
   visit("valve", "full_stroke_s", "valve_full_stroke_s", s.valve.full_stroke_s, FieldRange{0.0, 60.0, false});
 
+  visit("gate", "discharge_kg_s", "gate_discharge_kg_s", s.gate.discharge_kg_s, FieldRange{0.0, 1e3, true});
+  visit("gate", "stroke_s", "gate_stroke_s", s.gate.stroke_s, FieldRange{0.0, 60.0, false});
+
   visit("column", "fall_height_m", "fall_height_m", s.column.fall_height_m, FieldRange{0.0, 100.0, true});
   visit("column", "container_diameter_m", "container_diameter_m", s.column.container_diameter_m,
         FieldRange{0.0, 10.0, true});

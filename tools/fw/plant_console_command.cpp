@@ -10,8 +10,11 @@ namespace {
 std::string plant_line(const sim::Plant& plant) {
   const sim::PlantTruth& t = plant.truth();
   char text[256];
-  std::snprintf(text, sizeof text, "PLANT silo_kg=%.3f refilled_kg=%.3f refilling=%d in_flight_kg=%.3f container_kg=%.3f\n",
-                t.silo_kg, t.refilled_kg, t.refilling ? 1 : 0, t.in_flight_kg, t.static_kg);
+  std::snprintf(text, sizeof text,
+                "PLANT silo_kg=%.3f refilled_kg=%.3f refilling=%d in_flight_kg=%.3f container_kg=%.3f "
+                "discharged_kg=%.3f gate=%d\n",
+                t.silo_kg, t.refilled_kg, t.refilling ? 1 : 0, t.in_flight_kg, t.static_kg, t.discharged_kg,
+                static_cast<int>(plant.gate_feedback()));
   return text;
 }
 

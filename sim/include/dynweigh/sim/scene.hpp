@@ -37,6 +37,13 @@ struct ValveParameters {
   double full_stroke_s = 0.080;          // SPEC §2, fast; slow: 0.200
 };
 
+// The discharge gate under the weigh hopper: it strokes linearly open or shut, and the hopper
+// empties through it at a rate proportional to the stroke. Closed (the default) it changes nothing.
+struct GateParameters {
+  double discharge_kg_s = 4.0;           // out of the hopper through the open gate
+  double stroke_s = 0.5;                 // closed to open (and back)
+};
+
 struct ColumnParameters {
   double fall_height_m = 1.200;          // orifice to the empty container's floor, table 2.2
   double container_diameter_m = 0.300;
@@ -105,6 +112,7 @@ struct Scene {
   double internal_step_s = 0.001;        // plant steps per 10 ms jiffy: 10
   SiloParameters silo;
   ValveParameters valve;
+  GateParameters gate;
   ColumnParameters column;
   PileTopParameters pile_top;
   ImpactParameters impact;
