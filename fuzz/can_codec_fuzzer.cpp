@@ -39,6 +39,12 @@ bool same(const IndicatorStatusMessage& a, const IndicatorStatusMessage& b) {
 bool same(const HeartbeatMessage& a, const HeartbeatMessage& b) {
   return a.node == b.node && a.nmt_state == b.nmt_state;
 }
+bool same(const GateCommandMessage& a, const GateCommandMessage& b) {
+  return a.command == b.command && a.counter == b.counter;
+}
+bool same(const GateFeedbackMessage& a, const GateFeedbackMessage& b) {
+  return a.position == b.position && a.faults == b.faults;
+}
 
 // Decodes `frame` as `Message`; if accepted, checks the identifier and the round trip. Returns
 // whether it was accepted.
@@ -60,7 +66,9 @@ void check_decoders(const CanFrame& frame) {
                        int(try_decoder<ValveCommandMessage>(frame, MessageKind::valve_command)) +
                        int(try_decoder<ValveFeedbackMessage>(frame, MessageKind::valve_feedback)) +
                        int(try_decoder<IndicatorStatusMessage>(frame, MessageKind::indicator_status)) +
-                       int(try_decoder<HeartbeatMessage>(frame, MessageKind::heartbeat));
+                       int(try_decoder<HeartbeatMessage>(frame, MessageKind::heartbeat)) +
+                       int(try_decoder<GateCommandMessage>(frame, MessageKind::gate_command)) +
+                       int(try_decoder<GateFeedbackMessage>(frame, MessageKind::gate_feedback));
   if (accepted > 1) violated("more than one decoder accepted a frame");
   if (message_name(classify(frame)) == nullptr) violated("a message kind without a name");
 }

@@ -33,6 +33,7 @@ Plant::Plant(const Scene& scene, std::uint64_t seed)
       dt_(scene.internal_step_s),
       reference_weight_n_((scene.platform.container_kg + moving_load_kg(scene, 0.0)) * scene.g),
       valve_(scene.valve, stream_seed(seed, 1)),
+      gate_(scene.gate),
       silo_(scene.silo, scene.g, stream_seed(seed, 2)),
       column_(scene.g, column_capacity(scene)),
       load_cell_(scene.load_cell, scene.g, stream_seed(seed, 3),
@@ -79,6 +80,40 @@ void Plant::command_valve(ValveCommand command, double delay_s) {
   valve_.command(command, truth_.time_s + delay_s);
 }
 
+void Plant::add_to_silo(double kg) {
+  if (!(kg > 0.0)) return;
+  silo_.add(kg);
+  truth_.refilled_kg += kg;
+  truth_.silo_kg = silo_.remaining_kg();
+}
+
+// The level switch starts the feeder below refill_below_kg; it runs until the silo is back at
+// its fill level. A scene without a level (0) is only refilled by a command.
+void Plant::refill_step() {
+  const SiloParameters& silo = scene_.silo;
+  if (silo.refill_below_kg > 0.0 && silo_.remaining_kg() < silo.refill_below_kg) truth_.refilling = true;
+  if (!truth_.refilling) return;
+  const double room_kg = silo.fill_kg - silo_.remaining_kg();
+  const double poured_kg = std::min(room_kg, silo.refill_rate_kg_s * dt_);
+  if (poured_kg > 0.0) {
+    silo_.add(poured_kg);
+    truth_.refilled_kg += poured_kg;
+  }
+  if (poured_kg >= room_kg) truth_.refilling = false;
+}
+
+// The hopper empties through the gate at a rate proportional to its stroke, never more than it
+// holds. What leaves falls clear of the scale: no reaction on the platform.
+double Plant::discharge_step(double dt) {
+  const double mean_stroke = gate_.advance(dt);
+  truth_.gate_stroke = gate_.stroke();
+  if (mean_stroke <= 0.0 || truth_.static_kg <= 0.0) return 0.0;
+  const double emptied_kg = std::min(truth_.static_kg, scene_.gate.discharge_kg_s * mean_stroke * dt);
+  truth_.static_kg -= emptied_kg;
+  truth_.discharged_kg += emptied_kg;
+  return emptied_kg;
+}
+
 double Plant::fall_height_m() {
   return pile_ ? pile_->fall_height_m(truth_.static_kg) : scene_.column.fall_height_m;
 }
@@ -115,12 +150,16 @@ void Plant::step() {
     }
     a = b;
   }
+  refill_step();
 
   const double fall = fall_height_m();
   const FallingColumn::Landing landing = column_.land(begin, end, fall);
   const double static_before_kg = truth_.static_kg;
   truth_.static_kg += landing.mass_kg;
-  const double mean_static_kg = static_before_kg + landing.resting_kg_s / dt;
+  double mean_static_kg = static_before_kg + landing.resting_kg_s / dt;
+  if (const double emptied_kg = discharge_step(dt); emptied_kg > 0.0) {
+    mean_static_kg -= 0.5 * emptied_kg;  // it leaves evenly over the step
+  }
 
   double impact = impact_ ? impact_->force_over_step(landing.momentum_n_s, dt, landing.resting_momentum_n_s2) : landing.momentum_n_s / dt;
   if (avalanches_) impact += avalanches_->step(landing.mass_kg, pile_->slope_fraction(truth_.static_kg), begin, end);

@@ -39,11 +39,16 @@ void visit_scene_fields(SceneT& s, Visit&& visit) {
   visit("silo", "fluctuation_correlation_s", "fluctuation_correlation_s", s.silo.fluctuation_correlation_s,
         FieldRange{0.0, 1e3, true});
   visit("silo", "flow_factor", "flow_factor", s.silo.flow_factor, FieldRange{0.0, 1.0, true});
+  visit("silo", "refill_below_kg", "silo_refill_below_kg", s.silo.refill_below_kg, kNonNegative);
+  visit("silo", "refill_rate_kg_s", "silo_refill_rate_kg_s", s.silo.refill_rate_kg_s, FieldRange{0.0, 1e3, true});
 
   visit("valve", "dead_time_s", "valve_dead_time_s", s.valve.dead_time_s, FieldRange{0.0, 10.0, false});
   visit("valve", "dead_time_jitter_s", "valve_dead_time_jitter_s", s.valve.dead_time_jitter_s,
         FieldRange{0.0, 1.0, false});
   visit("valve", "full_stroke_s", "valve_full_stroke_s", s.valve.full_stroke_s, FieldRange{0.0, 60.0, false});
+
+  visit("gate", "discharge_kg_s", "gate_discharge_kg_s", s.gate.discharge_kg_s, FieldRange{0.0, 1e3, true});
+  visit("gate", "stroke_s", "gate_stroke_s", s.gate.stroke_s, FieldRange{0.0, 60.0, false});
 
   visit("column", "fall_height_m", "fall_height_m", s.column.fall_height_m, FieldRange{0.0, 100.0, true});
   visit("column", "container_diameter_m", "container_diameter_m", s.column.container_diameter_m,

@@ -102,6 +102,12 @@ void validate_scene(const Scene& scene, const std::string& origin) {
   if (scene.pile_top.enabled && scene.pile_top.flat_radius_m >= 0.5 * scene.column.container_diameter_m) {
     reject(origin, "pile_top.flat_radius_m", "must be smaller than the container's radius");
   }
+  if (scene.silo.refill_below_kg > scene.silo.fill_kg) {
+    reject(origin, "silo.refill_below_kg", "must not exceed silo.fill_kg, the level a refill stops at");
+  }
+  if (scene.hourglass.enabled && scene.silo.refill_below_kg > 0.0) {
+    reject(origin, "silo.refill_below_kg", "the hourglass weighs its silo: it cannot be refilled");
+  }
   if (scene.load_cell.capacity_kg * scene.load_cell.overload_fraction * scene.load_cell.counts_per_kg > 2e9) {
     reject(origin, "load_cell.capacity_kg", "its counts overflow a 32-bit ADC word");
   }

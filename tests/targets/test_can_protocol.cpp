@@ -148,3 +148,51 @@ TEST(CanProtocol, MalformedLinuxFramesAreRefused) {
 
 }  // namespace
 }  // namespace dynweigh::hal::can
+
+namespace dynweigh::hal::can {
+namespace {
+
+// The discharge gate (node 0x28): 0x228 command (0 closed, 2 open; byte 1 zero; the sample's
+// counter), 0x1A8 feedback (0 closed, 1 moving, 3 open; fault bits).
+TEST(CanProtocol, DischargeGateFramesAreLaidOutAsTheNodeExpects) {
+  const CanFrame command = encode(GateCommandMessage{2, 0x0304});
+  EXPECT_EQ(command.id, 0x228u);
+  EXPECT_EQ(command.dlc, 4);
+  EXPECT_EQ(command.data[0], 2);
+  EXPECT_EQ(command.data[1], 0);
+  EXPECT_EQ(command.data[2], 0x04);
+  EXPECT_EQ(command.data[3], 0x03);
+  EXPECT_EQ(classify(command), MessageKind::gate_command);
+  GateCommandMessage c;
+  ASSERT_TRUE(decode(command, c));
+  EXPECT_EQ(c.command, 2);
+  EXPECT_EQ(c.counter, 0x0304);
+
+  const CanFrame feedback = encode(GateFeedbackMessage{3, 0x01});
+  EXPECT_EQ(feedback.id, 0x1A8u);
+  EXPECT_EQ(feedback.dlc, 2);
+  EXPECT_EQ(classify(feedback), MessageKind::gate_feedback);
+  GateFeedbackMessage f;
+  ASSERT_TRUE(decode(feedback, f));
+  EXPECT_EQ(f.position, 3);
+  EXPECT_EQ(f.faults, 1);
+}
+
+TEST(CanProtocol, DischargeGateRefusesAHalfPositionAndWrongShapes) {
+  CanFrame half = encode(GateCommandMessage{2, 1});
+  half.data[0] = 1;
+  GateCommandMessage c;
+  EXPECT_FALSE(decode(half, c));
+  CanFrame long_command = encode(GateCommandMessage{0, 1});
+  long_command.dlc = 8;
+  EXPECT_FALSE(decode(long_command, c));
+  CanFrame half_feedback = encode(GateFeedbackMessage{0, 0});
+  half_feedback.data[0] = 2;
+  GateFeedbackMessage f;
+  EXPECT_FALSE(decode(half_feedback, f));
+  ValveCommandMessage valve;
+  EXPECT_FALSE(decode(encode(GateCommandMessage{2, 1}), valve));  // another node's frame
+}
+
+}  // namespace
+}  // namespace dynweigh::hal::can

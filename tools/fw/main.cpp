@@ -20,6 +20,7 @@
 #include "dynweigh/sim/scene.hpp"
 #include "can_plant_loop.hpp"
 #include "nvm_start.hpp"
+#include "plant_console_command.hpp"
 #include "plc_link.hpp"
 #include "serial_console.hpp"
 #include "stop_signal.hpp"
@@ -108,8 +109,7 @@ int run(const Options& options) {
   const bool lockstep_idle_waits = !options.realtime && plc.active();
   std::optional<std::string> early_line;  // a line the idle wait brought, for the next jiffy
   bool input_ended = false;
-  hal::host::ScriptedConsole console(
-      [&](std::string& line) {
+  const auto next_line = [&](std::string& line) {
         if (early_line) {
           line = *early_line;
           early_line.reset();
@@ -123,6 +123,20 @@ int run(const Options& options) {
         }
         input_ended = true;
         return hal::host::ScriptedConsole::Poll::ended;
+      };
+  // A `plant ...` line is answered by the simulated plant at once; the indicator never sees it.
+  hal::host::ScriptedConsole console(
+      [&](std::string& line) {
+        for (;;) {
+          const hal::host::ScriptedConsole::Poll got = next_line(line);
+          std::string answer;
+          if (got != hal::host::ScriptedConsole::Poll::line ||
+              !tools::answer_plant_command(line, session.plant(), answer)) {
+            return got;
+          }
+          std::fwrite(answer.data(), 1, answer.size(), stdout);
+          std::fflush(stdout);
+        }
       },
       [](const char* data, std::size_t n) {
         std::fwrite(data, 1, n, stdout);

@@ -1,9 +1,10 @@
-// dynweigh plant: the load-cell module (0x190) and the valve module (0x220 in, 0x1A0 out) of docs/can-protocol.md
-// played by the simulator or by a recording, on any CAN transport.
+// dynweigh plant: the load-cell module (0x190), the valve module (0x220 in, 0x1A0 out) and the
+// discharge gate module (0x228 in, 0x1A8 out) of docs/can-protocol.md played by the simulator or by
+// a recording, on any CAN transport.
 //
 // Lockstep (default): wait until the indicator is heard (any frame of node 1), then for each jiffy
-// k: send the valve feedback and sample k, wait for the 0x220 carrying counter k, apply its command
-// with its delay, advance the plant one jiffy. Real time (--realtime): a sample every 10 ms of wall
+// k: send the valve and gate feedback and sample k, wait for the 0x220 carrying counter k (a 0x228
+// before it moves the gate), apply its command with its delay, advance the plant one jiffy. Real time (--realtime): a sample every 10 ms of wall
 // time whatever the indicator does; the valve module closes when it has heard no command for 50 ms.
 // Ends when the indicator says it stops (heartbeat NMT state 0x04), when the link closes, after
 // --jiffies, at the end of a replay, or on SIGINT/SIGTERM; then prints its summary as key=value.
@@ -62,6 +63,7 @@ struct Stats {
   std::uint32_t malformed = 0;
   std::uint32_t watchdog_closes = 0;
   std::uint32_t valve_opens = 0;
+  std::uint32_t gate_opens = 0;
   long first_open_jiffy = -1;
   long last_close_jiffy = -1;
   std::int32_t indicator_weight_100mg = 0;
@@ -105,6 +107,18 @@ class Modules {
     if (plant_) plant_->command_valve(command, delay_s);
   }
 
+  can::GateFeedbackMessage gate_feedback() const {
+    if (plant_) return {static_cast<std::uint8_t>(plant_->gate_feedback()), 0};
+    return {gate_command_, 0};  // a recording's gate follows at once (2 open -> 3 open)
+  }
+
+  void command_gate(std::uint8_t command, Stats& stats) {
+    const std::uint8_t position = command == 2 ? 3 : 0;
+    if (position == 3 && gate_command_ != 3) ++stats.gate_opens;
+    gate_command_ = position;
+    if (plant_) plant_->command_gate(command == 2 ? sim::GateCommand::open : sim::GateCommand::closed);
+  }
+
   void advance() {
     if (plant_) plant_->advance(kJiffyS);
   }
@@ -113,12 +127,14 @@ class Modules {
   std::optional<sim::Plant>& plant_;
   const std::vector<std::int32_t>& replay_;
   sim::ValveCommand command_ = sim::ValveCommand::closed;
+  std::uint8_t gate_command_ = 0;  // as its feedback: 0 closed, 3 open
 };
 
-enum class Heard { nothing, answer, other, stopped, closed };
+enum class Heard { nothing, answer, gate, other, stopped, closed };
 
-// One frame from the link, sorted; `answer` fills `command`.
-Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommandMessage& command, bool verbose) {
+// One frame from the link, sorted; `answer` fills `command`, `gate` fills `gate`.
+Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommandMessage& command,
+             can::GateCommandMessage& gate, bool verbose) {
   CanFrame frame;
   const int got = link.receive(frame, timeout_ms);
   if (got < 0) return Heard::closed;
@@ -128,6 +144,12 @@ Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommand
       if (can::decode(frame, command)) {
         stats.indicator_seen = true;
         return Heard::answer;
+      }
+      break;
+    case can::MessageKind::gate_command:
+      if (can::decode(frame, gate)) {
+        stats.indicator_seen = true;
+        return Heard::gate;
       }
       break;
     case can::MessageKind::indicator_status: {
@@ -151,6 +173,7 @@ Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommand
     }
     case can::MessageKind::load_cell_sample:
     case can::MessageKind::valve_feedback:
+    case can::MessageKind::gate_feedback:
       return Heard::other;  // our own frames, echoed by a bus
     case can::MessageKind::unknown:
       return Heard::other;
@@ -162,13 +185,14 @@ Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommand
 int wait_for_indicator(CanTransport& link, const Options& options, Stats& stats) {
   const auto deadline = Clock::now() + std::chrono::duration<double>(options.wait_s);
   can::ValveCommandMessage ignored;
+  can::GateCommandMessage ignored_gate;
   while (!stats.indicator_seen) {
     if (g_stop) return 1;
     if (Clock::now() > deadline) {
       std::fprintf(stderr, "dynweigh plant: no indicator heard on %s within %.0f s\n", link.name().c_str(), options.wait_s);
       return 1;
     }
-    const Heard heard = listen(link, 100, stats, ignored, options.verbose);
+    const Heard heard = listen(link, 100, stats, ignored, ignored_gate, options.verbose);
     if (heard == Heard::closed) {
       std::fprintf(stderr, "dynweigh plant: %s closed before the indicator was heard\n", link.name().c_str());
       return 1;
@@ -180,13 +204,15 @@ int wait_for_indicator(CanTransport& link, const Options& options, Stats& stats)
 void send_heartbeats(CanTransport& link, std::uint8_t state) {
   link.send(can::encode(can::HeartbeatMessage{can::kNodeLoadCell, state}));
   link.send(can::encode(can::HeartbeatMessage{can::kNodeValve, state}));
+  link.send(can::encode(can::HeartbeatMessage{can::kNodeGate, state}));
 }
 
 bool send_jiffy(CanTransport& link, Modules& modules, std::uint32_t k, can::LoadCellSampleMessage& sample) {
   if (k % 10 == 0) send_heartbeats(link, can::kNmtOperational);  // every 100 ms of plant time
   sample = modules.sample(k);
   // Feedback first: it is latched when the sample starts the indicator's jiffy.
-  return link.send(can::encode(modules.feedback())) && link.send(can::encode(sample));
+  return link.send(can::encode(modules.feedback())) && link.send(can::encode(modules.gate_feedback())) &&
+         link.send(can::encode(sample));
 }
 
 int run_lockstep(CanTransport& link, const Options& options, Modules& modules, Stats& stats) {
@@ -198,8 +224,13 @@ int run_lockstep(CanTransport& link, const Options& options, Modules& modules, S
     if (!send_jiffy(link, modules, k, sample)) return stats.end = "link_closed", 0;
     const auto deadline = Clock::now() + std::chrono::duration<double>(options.timeout_s);
     can::ValveCommandMessage command;
+    can::GateCommandMessage gate;
     for (;;) {
-      const Heard heard = listen(link, 100, stats, command, options.verbose);
+      const Heard heard = listen(link, 100, stats, command, gate, options.verbose);
+      if (heard == Heard::gate) {  // the same jiffy's, before its 0x220
+        modules.command_gate(gate.command, stats);
+        continue;
+      }
       if (heard == Heard::answer) {
         ++stats.answers;
         if (command.counter == sample.counter) break;
@@ -211,6 +242,7 @@ int run_lockstep(CanTransport& link, const Options& options, Modules& modules, S
       if (g_stop) return stats.end = "signal", 0;
       if (Clock::now() > deadline) {
         modules.command(sim::ValveCommand::closed, 0.0, stats, k);  // fail-safe
+        modules.command_gate(0, stats);
         ++stats.watchdog_closes;
         std::fprintf(stderr, "dynweigh plant: no answer to sample %u within %.0f s\n", unsigned(sample.counter), options.timeout_s);
         stats.end = "timeout";
@@ -246,7 +278,9 @@ int run_realtime(CanTransport& link, const Options& options, Modules& modules, S
     if (!link.has_buffered_input() && ::poll(fds, 2, 100) <= 0) continue;
     if (link.has_buffered_input() || (fds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
       can::ValveCommandMessage command;
-      const Heard heard = listen(link, 0, stats, command, options.verbose);
+      can::GateCommandMessage gate;
+      const Heard heard = listen(link, 0, stats, command, gate, options.verbose);
+      if (heard == Heard::gate) modules.command_gate(gate.command, stats);
       if (heard == Heard::stopped) return finish("indicator_stopped");
       if (heard == Heard::closed) return finish("link_closed");
       if (heard == Heard::answer) {
@@ -266,6 +300,7 @@ int run_realtime(CanTransport& link, const Options& options, Modules& modules, S
       }
       if (!watchdog_tripped && k - last_command_jiffy >= std::uint32_t(kWatchdogJiffies)) {
         modules.command(sim::ValveCommand::closed, 0.0, stats, k);
+        modules.command_gate(0, stats);  // the gate module's watchdog too
         ++stats.watchdog_closes;
         watchdog_tripped = true;
       }
@@ -285,6 +320,7 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
   std::printf("malformed_frames=%u\n", stats.malformed);
   std::printf("watchdog_closes=%u\n", stats.watchdog_closes);
   std::printf("valve_opens=%u\n", stats.valve_opens);
+  std::printf("gate_opens=%u\n", stats.gate_opens);
   std::printf("first_open_jiffy=%ld\n", stats.first_open_jiffy);
   std::printf("last_close_jiffy=%ld\n", stats.last_close_jiffy);
   std::printf("indicator_weight_g=%.1f\n", stats.indicator_weight_100mg / 10.0);
@@ -293,6 +329,9 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
     std::printf("final_static_kg=%.6f\n", t.static_kg);
     std::printf("in_flight_kg=%.6f\n", t.in_flight_kg);
     std::printf("released_kg=%.6f\n", t.released_kg);
+    std::printf("silo_kg=%.6f\n", t.silo_kg);
+    std::printf("refilled_kg=%.6f\n", t.refilled_kg);
+    std::printf("discharged_kg=%.6f\n", t.discharged_kg);
     std::printf("plant_time_s=%.3f\n", t.time_s);
   }
   std::fflush(stdout);
@@ -302,9 +341,9 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
 
 int run_plant_command(int argc, char** argv) {
   Options options;
-  CLI::App app{"dynweigh plant: the simulator as the load-cell (0x190) and valve (0x220/0x1A0) modules of\n"
-               "docs/can-protocol.md on a CAN transport. Lockstep by default: sample k goes out, the plant waits for the\n"
-               "0x220 carrying counter k, applies it with its delay, advances one jiffy. Prints key=value\n"
+  CLI::App app{"dynweigh plant: the simulator as the load-cell (0x190), valve (0x220/0x1A0) and discharge gate\n"
+               "(0x228/0x1A8) modules of docs/can-protocol.md on a CAN transport. Lockstep by default: sample k goes\n"
+               "out, the plant waits for the 0x220 carrying counter k, applies it with its delay, advances one jiffy. Prints key=value\n"
                "lines at the end (final_static_kg= is the plant's truth).",
                "dynweigh plant"};
   app.add_option("--can", options.transport,

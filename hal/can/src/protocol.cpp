@@ -62,6 +62,8 @@ MessageKind classify(const CanFrame& frame) {
     case kIdValveCommand: return MessageKind::valve_command;
     case kIdValveFeedback: return MessageKind::valve_feedback;
     case kIdIndicatorStatus: return MessageKind::indicator_status;
+    case kIdGateCommand: return MessageKind::gate_command;
+    case kIdGateFeedback: return MessageKind::gate_feedback;
     default: break;
   }
   if (frame.id > kIdHeartbeatBase && frame.id < kIdHeartbeatBase + 0x80) return MessageKind::heartbeat;
@@ -75,6 +77,8 @@ const char* message_name(MessageKind kind) {
     case MessageKind::valve_feedback: return "valve_feedback";
     case MessageKind::indicator_status: return "indicator_status";
     case MessageKind::heartbeat: return "heartbeat";
+    case MessageKind::gate_command: return "gate_command";
+    case MessageKind::gate_feedback: return "gate_feedback";
     case MessageKind::unknown: break;
   }
   return "unknown";
@@ -158,6 +162,38 @@ bool decode(const CanFrame& f, HeartbeatMessage& m) {
   if (classify(f) != MessageKind::heartbeat || f.remote || f.dlc != 1) return false;
   m.node = std::uint8_t(f.id - kIdHeartbeatBase);
   m.nmt_state = f.data[0];
+  return true;
+}
+
+CanFrame encode(const GateCommandMessage& m) {
+  CanFrame f = frame_of(kIdGateCommand, 4);
+  f.data[0] = m.command;
+  f.data[1] = 0;
+  put_u16(f.data + 2, m.counter);
+  return f;
+}
+
+CanFrame encode(const GateFeedbackMessage& m) {
+  CanFrame f = frame_of(kIdGateFeedback, 2);
+  f.data[0] = m.position;
+  f.data[1] = m.faults;
+  return f;
+}
+
+// The gate has no half position: a command 1 is as wrong as 3.
+bool decode(const CanFrame& f, GateCommandMessage& m) {
+  if (!shaped(f, kIdGateCommand, 4)) return false;
+  if (f.data[0] != 0 && f.data[0] != 2) return false;
+  m.command = f.data[0];
+  m.counter = get_u16(f.data + 2);
+  return true;
+}
+
+bool decode(const CanFrame& f, GateFeedbackMessage& m) {
+  if (!shaped(f, kIdGateFeedback, 2)) return false;
+  if (f.data[0] != 0 && f.data[0] != 1 && f.data[0] != 3) return false;
+  m.position = f.data[0];
+  m.faults = f.data[1];
   return true;
 }
 

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "dynweigh/sim/components.hpp"
+#include "dynweigh/sim/discharge_gate.hpp"
 #include "dynweigh/sim/falling_column.hpp"
 #include "dynweigh/sim/impact_relaxation.hpp"
 #include "dynweigh/sim/load_cell.hpp"
@@ -36,6 +37,10 @@ struct PlantTruth {
   double stroke = 0.0;
   double fall_height_m = 0.0;   // orifice to the present pile top
   double silo_kg = 0.0;         // still in the silo
+  double refilled_kg = 0.0;     // poured into the silo from upstream since the start
+  bool refilling = false;       // the upstream feeder runs
+  double discharged_kg = 0.0;   // emptied out of the hopper through the discharge gate
+  double gate_stroke = 0.0;     // 0 shut .. 1 open
   double force_impulse_n_s = 0.0;  // exact time integral of force_n since the start
   std::uint64_t avalanches = 0;
 };
@@ -51,6 +56,18 @@ class Plant {
   // integrator adjusts the span with (`cal`). The platform rings from it; it is not in static_kg.
   void place_test_weight(double kg) { test_weight_kg_ = kg; }
   LoadCellSample sample() { return load_cell_.convert(support_force_n(), truth_.time_s); }
+
+  // Upstream supply (plant commands, beside the scene's automatic refill below
+  // silo.refill_below_kg): `kg` poured in at once, or a refill up to silo.fill_kg at
+  // silo.refill_rate_kg_s.
+  void add_to_silo(double kg);
+  void start_refill() { truth_.refilling = true; }
+
+  // The discharge gate under the hopper (at once: its module has no sub-jiffy delay).
+  void command_gate(GateCommand command) { gate_.command(command); }
+  GateFeedback gate_feedback() const { return gate_.feedback(); }
+  // A jammed gate holds its stroke whatever it is told (a fault to supervise).
+  void jam_gate(bool jammed) { gate_.jam(jammed); }
 
   const PlantTruth& truth() const { return truth_; }
   ValveFeedback valve_feedback() const { return valve_.feedback(); }
@@ -70,6 +87,8 @@ class Plant {
 
  private:
   void step();
+  void refill_step();
+  double discharge_step(double dt);
   double fall_height_m();
   double support_force_n() const { return platform_ ? platform_->support_force_n() : rigid_support_force_n_; }
 
@@ -78,6 +97,7 @@ class Plant {
   double dt_;
   double reference_weight_n_;  // what force_n is measured from
   PneumaticValve valve_;
+  DischargeGate gate_;
   Silo silo_;
   FallingColumn column_;
   std::optional<Pile> pile_;

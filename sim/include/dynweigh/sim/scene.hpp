@@ -24,12 +24,24 @@ struct SiloParameters {
   // Beverloo and v0 as the mean speed mdot / (A rho), so alpha is the scene's record of the
   // profile (the peak speed is v0 / alpha) and does not change the step.
   double flow_factor = 1.0;
+  // Upstream supply: when the silo holds less than refill_below_kg it is refilled at
+  // refill_rate_kg_s up to fill_kg (a level switch and a feeder). 0: never refilled, the silo
+  // runs dry as the thesis' rig does.
+  double refill_below_kg = 0.0;
+  double refill_rate_kg_s = 5.0;
 };
 
 struct ValveParameters {
   double dead_time_s = 0.030;            // docs/scenes.md
   double dead_time_jitter_s = 0.002;     // docs/scenes.md, rms
   double full_stroke_s = 0.080;          // docs/scenes.md, fast; slow: 0.200
+};
+
+// The discharge gate under the weigh hopper: it strokes linearly open or shut, and the hopper
+// empties through it at a rate proportional to the stroke. Closed (the default) it changes nothing.
+struct GateParameters {
+  double discharge_kg_s = 4.0;           // out of the hopper through the open gate
+  double stroke_s = 0.5;                 // closed to open (and back)
 };
 
 struct ColumnParameters {
@@ -100,6 +112,7 @@ struct Scene {
   double internal_step_s = 0.001;        // plant steps per 10 ms jiffy: 10
   SiloParameters silo;
   ValveParameters valve;
+  GateParameters gate;
   ColumnParameters column;
   PileTopParameters pile_top;
   ImpactParameters impact;

@@ -38,6 +38,8 @@ class Silo {
   double next_breakpoint_s(double now_s, double limit_s);
 
   double remaining_kg() const { return remaining_kg_; }
+  // Material poured in from upstream (the level does not change the rate: Janssen).
+  void add(double kg) { remaining_kg_ += kg; }
   double full_open_rate_kg_s() const { return full_open_rate_kg_s_; }
   double rate_at_stroke_kg_s(double stroke) const { return table_.rate_kg_s(stroke); }
   std::uint64_t steps() const { return steps_; }

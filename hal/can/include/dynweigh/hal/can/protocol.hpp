@@ -12,12 +12,15 @@ namespace dynweigh::hal::can {
 inline constexpr std::uint8_t kNodeIndicator = 0x01;
 inline constexpr std::uint8_t kNodeLoadCell = 0x10;
 inline constexpr std::uint8_t kNodeValve = 0x20;
+inline constexpr std::uint8_t kNodeGate = 0x28;  // the discharge gate under the hopper
 
 inline constexpr std::uint32_t kIdLoadCellSample = 0x180 + kNodeLoadCell;  // 0x190 TPDO1
 inline constexpr std::uint32_t kIdValveCommand = 0x200 + kNodeValve;       // 0x220 RPDO1
 inline constexpr std::uint32_t kIdValveFeedback = 0x180 + kNodeValve;      // 0x1A0 TPDO1
 inline constexpr std::uint32_t kIdIndicatorStatus = 0x180 + kNodeIndicator;  // 0x181 TPDO1
 inline constexpr std::uint32_t kIdHeartbeatBase = 0x700;                   // + node
+inline constexpr std::uint32_t kIdGateCommand = 0x200 + kNodeGate;         // 0x228 RPDO1
+inline constexpr std::uint32_t kIdGateFeedback = 0x180 + kNodeGate;        // 0x1A8 TPDO1
 
 // CiA 301 NMT states as heartbeats carry them.
 inline constexpr std::uint8_t kNmtBootUp = 0x00;
@@ -56,6 +59,16 @@ struct HeartbeatMessage {        // 0x700 + node, DLC 1
   std::uint8_t nmt_state = kNmtOperational;
 };
 
+struct GateCommandMessage {      // 0x228, DLC 4
+  std::uint8_t command = 0;      // 0 closed, 2 open
+  std::uint16_t counter = 0;     // of the sample it answers
+};
+
+struct GateFeedbackMessage {     // 0x1A8, DLC 2
+  std::uint8_t position = 0;     // 0 closed, 1 moving, 3 open
+  std::uint8_t faults = 0;
+};
+
 enum class MessageKind : std::uint8_t {
   unknown,
   load_cell_sample,
@@ -63,6 +76,8 @@ enum class MessageKind : std::uint8_t {
   valve_feedback,
   indicator_status,
   heartbeat,
+  gate_command,
+  gate_feedback,
 };
 
 // By identifier only: says which decoder to try, not that the frame is well-formed.
@@ -74,11 +89,15 @@ CanFrame encode(const ValveCommandMessage& message);
 CanFrame encode(const ValveFeedbackMessage& message);
 CanFrame encode(const IndicatorStatusMessage& message);
 CanFrame encode(const HeartbeatMessage& message);
+CanFrame encode(const GateCommandMessage& message);
+CanFrame encode(const GateFeedbackMessage& message);
 
 bool decode(const CanFrame& frame, LoadCellSampleMessage& message);
 bool decode(const CanFrame& frame, ValveCommandMessage& message);
 bool decode(const CanFrame& frame, ValveFeedbackMessage& message);
 bool decode(const CanFrame& frame, IndicatorStatusMessage& message);
 bool decode(const CanFrame& frame, HeartbeatMessage& message);
+bool decode(const CanFrame& frame, GateCommandMessage& message);
+bool decode(const CanFrame& frame, GateFeedbackMessage& message);
 
 }  // namespace dynweigh::hal::can
