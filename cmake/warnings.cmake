@@ -1,6 +1,10 @@
 # One place for the warning policy: every target of ours calls dynweigh_warnings().
 function(dynweigh_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
+  if(DYNWEIGH_CROSS_CORTEXM)
+    # The M4F's FPU is single precision: a double would be a software library call in the loop.
+    target_compile_options(${target} PRIVATE -Wdouble-promotion)
+  endif()
   if(DYNWEIGH_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

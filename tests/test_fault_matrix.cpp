@@ -11,11 +11,11 @@
 #include "dynweigh/hal/control_loop.hpp"
 #include "dynweigh/hal/host/fault_injection.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "support/console_session.hpp"
 #include "support/fault_rig.hpp"
-#include "oiml_r61.hpp"
 
 namespace dynweigh::testing {
 namespace {
@@ -60,7 +60,7 @@ std::vector<MatrixCase> matrix() {
 }
 
 TEST(FaultMatrix, EveryFaultTimesEveryStrategy) {
-  const double limit_g = tools::oiml_x1_limits(kTargetG).in_service_g;
+  const double limit_g = model::oiml_x1_limits(kTargetG).in_service_g;
   int injected = 0;
   for (const char* strategy : {"model", "preact", "twostage"}) {
     FaultRig healthy(hal::host::SensorFaultPlan{}, ValveFault::none, 0);

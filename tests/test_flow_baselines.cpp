@@ -13,9 +13,9 @@
 #include <ostream>
 #include <string>
 
+#include "dynweigh/model/oiml_r61_class.hpp"
 #include "dynweigh/sim/scene.hpp"
 #include "fill_series.hpp"
-#include "oiml_r61.hpp"
 #include "support/console_session.hpp"
 
 namespace dynweigh::tools {
@@ -29,7 +29,7 @@ void expect_within_class_after_learning(BenchStrategy strategy, const std::strin
   Scenario scenario;
   scenario.name = scene_name;
   scenario.scene = *sim::scene_by_name(scene_name);
-  const double limit = oiml_class * oiml_x1_limits(target_g).initial_verification_g;
+  const double limit = oiml_class * model::oiml_x1_limits(target_g).initial_verification_g;
   SeriesSpec spec;
   spec.strategy = strategy;
   spec.target_g = target_g;

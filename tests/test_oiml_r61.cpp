@@ -1,9 +1,9 @@
 // OIML R61 classes against values worked by hand from the table in docs/benchmarks.md.
 #include <gtest/gtest.h>
 
-#include "oiml_r61.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 
-namespace dynweigh::tools {
+namespace dynweigh::model {
 namespace {
 
 TEST(OimlR61, X1LimitsAtTheBandEdges) {
@@ -42,4 +42,4 @@ TEST(OimlR61, OneFillsClassIsTheSmallestWhoseInitialVerificationLimitHoldsItsDev
 }
 
 }  // namespace
-}  // namespace dynweigh::tools
+}  // namespace dynweigh::model

@@ -17,10 +17,10 @@
 #include "dynweigh/hal/control_loop.hpp"
 #include "dynweigh/hal/host/fault_injection.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 #include "dynweigh/sim/plant.hpp"
 #include "dynweigh/sim/random.hpp"
 #include "dynweigh/sim/scene.hpp"
-#include "oiml_r61.hpp"
 #include "support/string_console.hpp"
 
 namespace dynweigh::testing {
@@ -200,7 +200,7 @@ TEST(Soak, TenThousandCyclesWithRandomFaults) {
     } else {
       const double excess_g = o.final_g - target_g;
       worst_excess_g = std::max(worst_excess_g, excess_g);
-      if (excess_g > tools::oiml_x1_limits(target_g).in_service_g) {
+      if (excess_g > model::oiml_x1_limits(target_g).in_service_g) {
         ++overdoses;
         ADD_FAILURE() << "overdose: " << o.final_g << " g\n" << o.answer;
       }

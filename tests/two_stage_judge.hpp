@@ -11,7 +11,7 @@
 
 #include "dynweigh/sim/scene.hpp"
 #include "fill_series.hpp"
-#include "oiml_r61.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 
 namespace dynweigh::tools {
 
@@ -27,7 +27,7 @@ inline void expect_within_x1_after_learning(BenchStrategy strategy, const std::s
   scenario.scene = *sim::scene_by_name(scene_name);
   for (double target : kTargets) {
     if (target > scenario.scene.silo.fill_kg * 1000.0 * 0.9) continue;  // the silo cannot hold it
-    const double limit = oiml_x1_limits(target).initial_verification_g;
+    const double limit = model::oiml_x1_limits(target).initial_verification_g;
     for (double band : kBands) {
       SeriesSpec spec;
       spec.strategy = strategy;

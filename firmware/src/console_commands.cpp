@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "dynweigh/firmware/decimal_fraction.hpp"
 #include "dynweigh/firmware/indicator.hpp"
 
 namespace dynweigh::firmware {
@@ -76,26 +77,31 @@ bool parse_decimal(const char* text, float& value) {
   const char* p = text;
   bool negative = false;
   if (*p == '-' || *p == '+') negative = *p++ == '-';
-  double whole = 0.0, scale = 1.0;
-  bool digits = false, point = false;
+  std::uint64_t numerator = 0;  // the digits, point removed
+  int decimals = 0;
+  bool digits = false, point = false, more_digits = false;
   for (; *p; ++p) {
     if (*p == '.' && !point) {
       point = true;
     } else if (*p >= '0' && *p <= '9') {
       digits = true;
-      if (point) {
-        scale /= 10.0;
-        whole += (*p - '0') * scale;
+      const unsigned digit = unsigned(*p - '0');
+      if (!point) {
+        numerator = numerator * 10 + digit;
+        if (numerator > 1000000000000u) return false;
+      } else if (numerator < 100000000000000000u) {
+        numerator = numerator * 10 + digit;
+        ++decimals;
       } else {
-        whole = whole * 10.0 + (*p - '0');
-        if (whole > 1e12) return false;
+        more_digits = more_digits || digit != 0;
       }
     } else {
       return false;
     }
   }
   if (!digits) return false;
-  value = float(negative ? -whole : whole);
+  const float magnitude = nearest_float(numerator, decimals, more_digits);
+  value = negative ? -magnitude : magnitude;
   return true;
 }
 

@@ -17,7 +17,8 @@ void DisplayFilter::configure(FilterKind kind, float corner_hz, float jiffy_s) {
 void DisplayFilter::reset(float value) {
   stage1_ = output_ = value;
   for (std::size_t i = 0; i < window_length_; ++i) window_[i] = value;
-  window_sum_ = double(value) * double(window_length_);
+  window_sum_.reset();
+  for (std::size_t i = 0; i < window_length_; ++i) window_sum_.add(value);
   head_ = 0;
   count_ = window_length_;
   primed_ = true;
@@ -30,14 +31,15 @@ float DisplayFilter::push(float value) {
       output_ = value;
       break;
     case FilterKind::average:
-      window_sum_ += double(value) - double(window_[head_]);
+      window_sum_.add(value);
+      window_sum_.add(-window_[head_]);
       window_[head_] = value;
       head_ = (head_ + 1) % window_length_;
       if (head_ == 0) {  // re-add once a window so rounding cannot accumulate over a day
-        window_sum_ = 0.0;
-        for (std::size_t i = 0; i < window_length_; ++i) window_sum_ += double(window_[i]);
+        window_sum_.reset();
+        for (std::size_t i = 0; i < window_length_; ++i) window_sum_.add(window_[i]);
       }
-      output_ = float(window_sum_ / double(count_));
+      output_ = window_sum_.mean(std::uint32_t(count_));
       break;
     case FilterKind::iir:
       stage1_ += smoothing_ * (value - stage1_);

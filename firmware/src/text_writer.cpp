@@ -1,6 +1,36 @@
 #include "dynweigh/firmware/text_writer.hpp"
 
+#include <cmath>
+#include <cstring>
+#include <limits>
+
 namespace dynweigh::firmware {
+namespace {
+
+// |value| * scale rounded half away from zero, in integers (the M4F has no double): a float is an
+// integer mantissa times a power of two, so the product is exact before the one rounding.
+std::int64_t scaled_magnitude(float value, std::int64_t scale) {
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &value, sizeof bits);
+  const std::uint32_t biased_exponent = (bits >> 23) & 0xFFu;
+  std::uint64_t mantissa = bits & 0x7FFFFFu;
+  int exponent = -149;  // subnormal
+  if (biased_exponent != 0) {
+    mantissa |= 0x800000u;
+    exponent = int(biased_exponent) - 150;
+  }
+  const std::uint64_t product = mantissa * std::uint64_t(scale);
+  constexpr std::uint64_t kMax = std::uint64_t(std::numeric_limits<std::int64_t>::max());
+  if (exponent >= 0) {
+    if (exponent >= 40 || product > (kMax >> exponent)) return std::int64_t(kMax);
+    return std::int64_t(product << exponent);
+  }
+  if (exponent < -62) return 0;  // below half of one unit
+  const int shift = -exponent;
+  return std::int64_t((product + (std::uint64_t(1) << (shift - 1))) >> shift);
+}
+
+}  // namespace
 
 void TextWriter::put(char c) {
   if (size_ == kCapacity) return;  // callers check free_space() before an answer; never block
@@ -28,12 +58,8 @@ void TextWriter::write_int(std::int64_t value) {
 void TextWriter::write_decimal(float value, int max_decimals) {
   std::int64_t scale = 1;
   for (int i = 0; i < max_decimals; ++i) scale *= 10;
-  const double scaled = double(value) * double(scale);
-  std::int64_t fixed = std::int64_t(scaled < 0 ? scaled - 0.5 : scaled + 0.5);
-  if (fixed < 0) {
-    put('-');
-    fixed = -fixed;
-  }
+  const std::int64_t fixed = scaled_magnitude(value, scale);
+  if (std::signbit(value) && fixed != 0) put('-');
   write_int(fixed / scale);
   std::int64_t fraction = fixed % scale;
   int decimals = max_decimals;

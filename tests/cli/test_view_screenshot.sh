@@ -58,6 +58,11 @@ print(f"trace_pixels={dose_trace} trace_pixels_first_frame={first_trace} valve_p
 assert dose_trace > 500, "the force trace does not show"
 assert dose_trace > 10 * max(first_trace, 1), "the trace did not grow while the scene ran"
 assert dose_valve > 100, "the valve marker does not show"
+import os
+w, h, _ = pixels(sys.argv[1])
+size = os.path.getsize(sys.argv[1])
+print(f"png_bytes={size} raw_bytes={3 * w * h}")
+assert size < 3 * w * h // 4, "the screenshot is not compressed"
 PY
 # Bad options: one line, non-zero.
 if err=$("$bin/dynweigh" view --scene nosuch --frames 1 2>&1 >/dev/null); then echo "accepted a bad scene"; exit 1; fi

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Size report of the Cortex-M4F image: flash (text + data initialisers) and RAM (data + bss + stack,
 the 1000-record test-data buffer included) against the budget (flash < 128 KB, RAM < 32 KB), and
-proof that no allocator is linked."""
+proof that no allocator and no double arithmetic (software routines on the M4F's single-precision
+FPU) is linked."""
 import argparse
 import os
 import re
@@ -34,6 +35,9 @@ if recorder:
 for name in ("malloc", "_malloc_r", "_sbrk", "operator new"):
     if re.search(rf"\b[TtWw] {re.escape(name)}\b", symbols):
         fail(f"{name} is linked into the image")
+doubles = sorted(set(re.findall(r"\b[TtWw] (__aeabi_d\w+|__aeabi_\w+2d|__\w+df[23])\b", symbols)))
+if doubles:
+    fail(f"double arithmetic is linked into the image: {' '.join(doubles)}")
 if flash >= 128 * 1024:
     fail(f"flash {flash} B over 128 KB")
 if ram >= 32 * 1024:

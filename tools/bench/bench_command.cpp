@@ -23,6 +23,7 @@
 #include "step_benchmark.hpp"
 #ifdef DYNWEIGH_HAS_SIM_BENCH
 #include "sim_commands.hpp"
+#include "command_line.hpp"
 #endif
 
 namespace dynweigh::tools {
@@ -240,14 +241,7 @@ int run_bench_command(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress bar");
   app.add_flag("--step", "Google Benchmark of Indicator::step (other options go to Google Benchmark)");
   app.add_flag("--sim", "the plant's realtime factor and error per scene");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh bench")) return *exit_status;
   if (journal.empty() && !csv.empty()) journal = csv + ".journal";
   if (resume && journal.empty()) {
     std::fprintf(stderr, "dynweigh bench: --resume needs --journal FILE or --csv FILE\n");

@@ -12,7 +12,7 @@
 #include "dynweigh/model/ideal_model.hpp"
 #include "dynweigh/model/valve_let_through.hpp"
 #include "dynweigh/sim/plant.hpp"
-#include "oiml_r61.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -377,7 +377,7 @@ SeriesResult run_series(const SeriesSpec& spec, const Scenario& scenario, std::u
     result.max_deviation_g = std::max(result.max_deviation_g, std::abs(e - result.bias_g));
   }
   result.sd_g = errors.size() > 1 ? std::sqrt(result.sd_g / (n - 1.0)) : 0.0;
-  result.oiml_class = result.failed ? 0.0 : best_oiml_class(spec.target_g, result.max_deviation_g, result.bias_g);
+  result.oiml_class = result.failed ? 0.0 : model::best_oiml_class(spec.target_g, result.max_deviation_g, result.bias_g);
   return result;
 }
 

@@ -19,7 +19,7 @@
 #include "dynweigh/sim/plant_family.hpp"
 #include "fill_series.hpp"
 #include "grid_runner.hpp"
-#include "oiml_r61.hpp"
+#include "dynweigh/model/oiml_r61_class.hpp"
 #include "progress_bar.hpp"
 
 namespace dynweigh::tools {
@@ -181,12 +181,12 @@ std::string failure_word(const std::string& error) {
 std::string cell_line(const std::string& strategy, const std::string& plant, double target_g, const Cell& c,
                       std::uint32_t fills) {
   const bool first_ok = !std::isnan(c.first_error_g);
-  const double class_first = first_ok ? oiml_class_of_deviation(target_g, std::abs(c.first_error_g)) : 0.0;
+  const double class_first = first_ok ? model::oiml_class_of_deviation(target_g, std::abs(c.first_error_g)) : 0.0;
   double bias = 0.0, max_deviation = 0.0;
   for (double e : c.steady_errors_g) bias += e / double(c.steady_errors_g.size());
   for (double e : c.steady_errors_g) max_deviation = std::max(max_deviation, std::abs(e - bias));
   const bool steady_ok = c.steady_errors_g.size() + 1 == fills;
-  const double class_steady = steady_ok ? best_oiml_class(target_g, max_deviation, bias) : 0.0;
+  const double class_steady = steady_ok ? model::best_oiml_class(target_g, max_deviation, bias) : 0.0;
   char line[400];
   std::snprintf(line, sizeof line,
                 "strategy=%s plant=%s target_g=%.0f class_first=%s class_steady=%s time_ratio=%.3f topups=%ld "

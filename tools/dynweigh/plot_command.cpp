@@ -22,6 +22,7 @@
 #include "commands.hpp"
 #include "finite_range.hpp"
 #include "output_file.hpp"
+#include "command_line.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -355,14 +356,7 @@ int run_plot_command(int argc, char** argv) {
   app.add_option("--replay", replay, "cycle plots: draw the prediction from this replay CSV of the same run");
   app.add_option("--target", target_g, "replay plots: draw the dose's target, grams")->check(FiniteRange(0.0, 1e9));
   app.add_option("--g", g, "gravity used to draw masses as forces, m/s^2")->capture_default_str()->check(FiniteRange(0.1, 100.0));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh plot: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh plot")) return *exit_status;
   bool created = false;
   try {
     terminal_for(output);

@@ -25,6 +25,7 @@
 #include "serial_console.hpp"
 #include "stop_signal.hpp"
 #include "trace_csv.hpp"
+#include "command_line.hpp"
 
 namespace {
 
@@ -214,14 +215,7 @@ int main(int argc, char** argv) {
         return modbus::parse_endpoint(text, error) ? std::string() : error;
       });
   app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::Success& e) {  // --help, --version
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh-fw: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh-fw")) return *exit_status;
   if (options.nvm_reset && options.nvm.empty()) {
     std::fprintf(stderr, "dynweigh-fw: --nvm-reset needs --nvm FILE\n");
     return 2;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "command_line_errors.hpp"
+#include "command_line.hpp"
 #include "output_file.hpp"
 #include "dem_job_row.hpp"
 #include "dynweigh/granular/dem_calibration.hpp"
@@ -253,11 +253,7 @@ int run_calibrate_command(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--critical-step", o.critical_step, "soc: the heap's critical step")->check(CLI::Range(1, 100));
   app.add_option("--grid", o.grid, "fluid: grid points across the bore (2^k + 1)")->check(CLI::Range(9, 4097));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return report_parse_outcome(app, e, "calibrate");
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh calibrate")) return *exit_status;
   if (o.resume && o.journal.empty()) {
     std::fprintf(stderr, "dynweigh calibrate: --resume needs --journal FILE\n");
     return 2;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "command_line_errors.hpp"
+#include "command_line.hpp"
 #include "dynweigh/granular/dem_calibration.hpp"
 #include "dynweigh/granular/impact_relaxation_estimate.hpp"
 #include "dynweigh/granular/outflow_profile.hpp"
@@ -123,11 +123,7 @@ int run_dem_command(int argc, char** argv) {
   app.add_flag("--no-calibration", no_calibration, "skip the calibration measurements (alpha, impact relaxation) for pure speed runs");
   app.add_option("--calibration-every", calibration_every, "steps between samples of the outflow speed profile")->check(CLI::PositiveNumber);
   app.add_option("--csv", csv, "write step,time,discs_above,silo_bottom_force_y,container_force_y every step");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return report_parse_outcome(app, e, "dem");
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh dem")) return *exit_status;
   if (!silo2d && scene.empty()) return fail("dem", "give --silo2d or --scene NAME");
   if (!silo2d && scene != "silo2d") {
     SceneDoseOptions o;

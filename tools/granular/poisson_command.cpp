@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "command_line_errors.hpp"
+#include "command_line.hpp"
 #include "finite_range.hpp"
 #include "dynweigh/granular/poisson_problem.hpp"
 #include "dynweigh/granular/poisson_solvers.hpp"
@@ -80,11 +80,7 @@ int run_poisson_command(int argc, char** argv) {
   app.add_option("--max-iterations", max_iterations, "iteration limit")->check(CLI::PositiveNumber);
   app.add_flag("--thesis-rule", thesis_rule, "gs: stop on the sum of absolute changes (thesis example 3.1)");
   app.add_option("--csv", csv, "write the profile: i,j,x,y,u");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return report_parse_outcome(app, e, "poisson");
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh poisson")) return *exit_status;
   try {
     return solve_and_report(grid, shape, solver, tol, source, side, max_iterations, thesis_rule, csv);
   } catch (const std::exception& e) {

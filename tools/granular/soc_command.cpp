@@ -4,7 +4,7 @@
 #include <fstream>
 #include <string>
 
-#include "command_line_errors.hpp"
+#include "command_line.hpp"
 #include "dynweigh/granular/avalanche_statistics.hpp"
 #include "dynweigh/granular/btw_sandpile.hpp"
 #include "dynweigh/granular/extended_heap_2d.hpp"
@@ -35,11 +35,7 @@ int run_soc_command(int argc, char** argv) {
   app.add_flag("--extended", extended, "the thesis' extended 2D heap (grain falls until boxed in, fills holes first)");
   app.add_option("--critical-slope", critical_slope, "z_c of the 1D slope model and of the heap")->check(CLI::Range(1, 1000));
   app.add_option("--csv", csv, "write one line per grain: grain,size,area,duration,lost,max_height");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return report_parse_outcome(app, e, "soc");
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh soc")) return *exit_status;
   if (extended && dim != 2) return fail("soc", "--extended is the 2D heap; use --dim 2");
   if (dim == 3 && size > 256) return fail("soc", "--size above 256 in 3D needs too much memory");
 

@@ -29,6 +29,7 @@
 #include "finite_range.hpp"
 #include "plant_commands.hpp"
 #include "replay_source.hpp"
+#include "command_line.hpp"
 
 namespace {
 
@@ -364,18 +365,7 @@ int run_plant_command(int argc, char** argv) {
       ->capture_default_str()
       ->check(tools::FiniteRange(0.01, 86400.0));
   app.add_flag("--verbose", options.verbose, "log protocol events on stderr");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::string what = e.what();
-    for (char& c : what) {
-      if (c == '\n') c = ' ';
-    }
-    std::fprintf(stderr, "dynweigh plant: %s\n", what.c_str());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh plant")) return *exit_status;
 
   try {
     std::optional<sim::Plant> plant;

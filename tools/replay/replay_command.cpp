@@ -22,6 +22,7 @@
 #include "progress_bar.hpp"
 #include "replay_commands.hpp"
 #include "replay_run.hpp"
+#include "command_line.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -274,14 +275,7 @@ int run_replay_command(int argc, char** argv) {
       ->check(FiniteRange(double(INT32_MIN), double(INT32_MAX)));
   app.add_option("--counts-per-gram", a.counts_per_gram, "raw samples: span")->check(FiniteRange(1e-6, 1e6));
   app.add_flag("-q,--quiet", a.quiet, "no progress bar, no open-loop notice");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh replay: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh replay")) return *exit_status;
   try {
     return run(a);
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 #include "dynweigh/sim/scene_file.hpp"
 #include "dynweigh/sim/valve_schedule.hpp"
 #include "sim_commands.hpp"
+#include "command_line.hpp"
 
 namespace {
 
@@ -50,14 +51,7 @@ int run_sim_bench(int argc, char** argv) {
   app.add_option("--cycle", cycle_s, "simulated seconds per cycle")->capture_default_str()->check(CLI::Range(0.01, 1e5));
   app.add_option("--min-time", min_wall_s, "wall seconds to repeat each scene for")->capture_default_str()->check(CLI::Range(0.0, 600.0));
   app.add_option("--seed", seed, "seed")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh bench: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh bench")) return *exit_status;
   try {
     if (scenes.empty()) scenes = sim::scene_names();
     const auto schedule = sim::parse_valve_schedule(schedule_text);

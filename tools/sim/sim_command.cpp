@@ -13,6 +13,7 @@
 #include "finite_range.hpp"
 #include "sim_commands.hpp"
 #include "trace_csv.hpp"
+#include "command_line.hpp"
 
 namespace {
 
@@ -54,13 +55,7 @@ int run_sim_command(int argc, char** argv) {
       ->check(tools::FiniteRange(1e-7, 0.01));
   app.add_flag("--describe", describe, "print the scene's resolved parameters as key=value lines and exit");
   app.add_flag("--list", list, "print the scene names and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    return fail(e.what());
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh sim")) return *exit_status;
 
   try {
     if (list) {

@@ -21,6 +21,7 @@
 #include "line_editor.hpp"
 #include "serial_port.hpp"
 #include "term_commands.hpp"
+#include "command_line.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -242,14 +243,7 @@ int run_term_command(int argc, char** argv) {
       CLI::Range(0.1, 86400.0));
   app.add_flag("--no-retry", a.no_retry, "do not resend a line answered ERR 3 busy");
   app.add_flag("-q,--quiet", a.quiet, "do not echo each line's answer on stderr");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh term: %s\n", e.what());
-    return 2;
-  }
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh term")) return *exit_status;
   try {
     SerialPort port(a.device, a.baud);
     port.discard_input();

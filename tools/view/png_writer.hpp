@@ -1,6 +1,5 @@
 #pragma once
-// Writes RGB pixels as a PNG without a library: stored (uncompressed) deflate blocks are valid
-// PNG, and a screenshot for a test or a README needs nothing more.
+// Writes RGB pixels as a PNG with libpng (8-bit RGB, no row filter, deflate-compressed).
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -23,6 +23,7 @@
 #include "png_writer.hpp"
 #include "scene_drawing.hpp"
 #include "view_commands.hpp"
+#include "command_line.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -242,13 +243,9 @@ int run_view_command(int argc, char** argv) {
   app.add_option("--screenshot", a.screenshot, "with --frames: save the last frame as this .png file");
   app.add_option("--width", a.width, "window width, pixels")->capture_default_str()->check(CLI::Range(200, 4096));
   app.add_option("--height", a.height, "window height, pixels")->capture_default_str()->check(CLI::Range(150, 4096));
-  try {
-    app.parse(argc, argv);
-    if (!a.screenshot.empty() && a.frames == 0) throw CLI::ValidationError("--screenshot needs --frames N");
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "dynweigh view: %s\n", e.what());
+  if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh view")) return *exit_status;
+  if (!a.screenshot.empty() && a.frames == 0) {
+    std::fprintf(stderr, "dynweigh view: --screenshot needs --frames N\n");
     return 2;
   }
   bool created = false;

@@ -3,6 +3,7 @@
 // The model strategy does not look through it; it fits the unfiltered samples instead.
 #include <cstddef>
 
+#include "dynweigh/firmware/compensated_sum.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
 namespace dynweigh::firmware {
@@ -24,7 +25,7 @@ class DisplayFilter {
   float stage1_ = 0.0f, output_ = 0.0f;
   float window_[kMaxAverage] = {};
   std::size_t window_length_ = 1, head_ = 0, count_ = 0;
-  double window_sum_ = 0.0;  // double: a float running sum drifts over a day of samples
+  CompensatedSum window_sum_;  // a plain float running sum drifts over a day of samples
   bool primed_ = false;
 };
 

@@ -3,6 +3,8 @@
 // band for a while. Its mean over that while is the stable value.
 #include <cstdint>
 
+#include "dynweigh/firmware/compensated_sum.hpp"
+
 namespace dynweigh::firmware {
 
 class StableWeightDetector {
@@ -20,25 +22,26 @@ class StableWeightDetector {
     const float high = value > high_ ? value : high_;
     if (count_ == 0 || high - low > band_) {
       low_ = high_ = value;  // a new window starts at this sample
-      sum_ = double(value);
+      sum_.reset();
+      sum_.add(value);
       count_ = 1;
     } else {
       low_ = low;
       high_ = high;
-      sum_ += double(value);
+      sum_.add(value);
       ++count_;
     }
     return count_ >= samples_needed_;
   }
   bool stable() const { return count_ >= samples_needed_; }
-  float mean() const { return count_ ? float(sum_ / double(count_)) : 0.0f; }
+  float mean() const { return sum_.mean(count_); }
 
  private:
   float band_ = 1.0f;
   std::uint32_t samples_needed_ = 50;
   std::uint32_t count_ = 0;
   float low_ = 0.0f, high_ = 0.0f;
-  double sum_ = 0.0;
+  CompensatedSum sum_;
 };
 
 }  // namespace dynweigh::firmware

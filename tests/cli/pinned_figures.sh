@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The figures pinned to committed constants, on every host build (Release, Debug, ASan): the main
+# job's dose gives these bytes of CSV and this RESULT, and a recording made by an earlier build
+# (tests/data) still replays bit for bit. A change that moves them moves the constants, on purpose.
+set -euo pipefail
+bin=$(cd "$1" && pwd); data=$(cd "$(dirname "$0")/../data" && pwd); work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+# 1. The main job: dose 10000 g on the default plant, seed 1 (tools/main-job.sh).
+expected_csv_sha256=104e5ec7b5d3171249800bba58a054a3364661f68f56a02460d856867ef70a93
+expected_result='RESULT target=10000 final=10010 error=10 time=5600 cutoff=475 strategy=model'
+printf 'dose 10000\n' | "$bin/dynweigh-fw" --csv cycle.csv > cycle.txt
+grep -qxF "$expected_result" cycle.txt || { echo "RESULT moved: $(grep '^RESULT' cycle.txt)"; exit 1; }
+actual=$(sha256sum cycle.csv | cut -d' ' -f1)
+[ "$actual" = "$expected_csv_sha256" ] || { echo "the dose's CSV moved: sha256 $actual"; exit 1; }
+
+# 2. A committed recording (dynweigh-fw --record, dose 2000 on the default plant, seed 1).
+recording=$data/dose_2000_default_seed1.rec
+"$bin/dynweigh" replay "$recording" -q --console-out console.txt > summary.txt
+cat summary.txt
+for line in format=inputs jiffies=222 open_loop=0 matches_recording=1 results=1 result_final=2075 \
+            result_cutoff=143; do
+  grep -qxF "$line" summary.txt || { echo "replay of $recording: no $line"; exit 1; }
+done
+cmp console.txt "$data/dose_2000_default_seed1.console"  # the console, byte for byte
+echo PASS
