@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <optional>
+#include <vector>
 
 #include "dynweigh/firmware/settings_slots.hpp"
 #include "dynweigh/hal/host/cuttable_nvm.hpp"
@@ -189,6 +191,60 @@ TEST(SettingsSlots, RepeatedCutsKeepTheLastCompletedGeneration) {
       completed = n;
     }
     EXPECT_EQ(loaded_generation(store), completed) << n;
+  }
+}
+
+}  // namespace
+}  // namespace dynweigh
+
+namespace dynweigh {
+namespace {
+
+// A version-4 settings record (before the tolerance parameters) made from today's: the same layout
+// with the parameters from `class` on left out.
+constexpr std::size_t kParametersV4 = static_cast<std::size_t>(ParameterId::oiml_class);
+constexpr std::size_t kRecordV4 = firmware::settings_record_size(kParametersV4);
+constexpr std::size_t kSlotV4 = firmware::kSlotHeaderSize + kRecordV4;
+
+std::vector<std::uint8_t> version4_slot(const PersistentSettings& s, std::uint32_t sequence) {
+  std::vector<std::uint8_t> now(firmware::kSlotSize);
+  firmware::encode_slot(s, sequence, now.data(), now.size());
+  const std::uint8_t* record = now.data() + firmware::kSlotHeaderSize;
+  const std::size_t dropped = 4 * (firmware::kParameterCount - kParametersV4);
+  const std::size_t tail = 28 + 4 * kParametersV4;  // header, calibration and the v4 parameters
+  std::vector<std::uint8_t> slot(now.begin(), now.begin() + firmware::kSlotHeaderSize);
+  slot.insert(slot.end(), record, record + tail);
+  slot.insert(slot.end(), record + tail + dropped, record + firmware::kSettingsRecordSize);
+  std::uint8_t* r = slot.data() + firmware::kSlotHeaderSize;
+  auto put = [](std::uint8_t* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+  };
+  r[4] = 4;
+  r[6] = std::uint8_t(kParametersV4);
+  put(r + 8, std::uint32_t(kRecordV4));
+  put(r + 12, firmware::crc32(r + 16, kRecordV4 - 16) ^ firmware::crc32(r, 12));
+  put(slot.data() + 8, std::uint32_t(kRecordV4));
+  put(slot.data() + 12, firmware::crc32(slot.data() + 4, 8) ^ firmware::crc32(r, kRecordV4));
+  return slot;
+}
+
+TEST(SettingsSlots, AVersion4FileLoadsWithTheToleranceParametersAtTheirDefaults) {
+  for (std::size_t newest : {0u, 1u}) {
+    CuttableNvm nvm(firmware::kSettingsSlotsBytes);
+    for (std::size_t slot = 0; slot < 2; ++slot) {
+      const auto image = version4_slot(generation(int(slot) + 1), std::uint32_t(slot == newest ? 9 : 8));
+      std::copy(image.begin(), image.end(), nvm.bytes().begin() + std::ptrdiff_t(slot * kSlotV4));
+    }
+    SlottedSettingsStore store(nvm);
+    PersistentSettings loaded;
+    ASSERT_TRUE(store.load(loaded)) << "newest in slot " << newest;
+    expect_generation(loaded, int(newest) + 1);
+    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::oiml_class), 1.0f);
+    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::tol_action), 0.0f);
+    // The next save writes today's layout, and that is what loads from then on.
+    ASSERT_TRUE(store.save(generation(7)));
+    ASSERT_TRUE(store.load(loaded));
+    expect_generation(loaded, 7);
   }
 }
 

@@ -28,7 +28,7 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_zero},
     {"cal", "cal <grams>  at standstill: span adjustment with a test weight on the zeroed scale (persists)",
      &Indicator::command_cal},
-    {"status", "status  state, weight (none: no sample or not calibrated), valve and fault",
+    {"status", "status  state (idle dosing settling hold fault), weight (none: no sample or not calibrated), valve and fault",
      &Indicator::command_status},
     {"param", "param [<name> [<value>]]  list, read or set a parameter (persists)",
      &Indicator::command_param},
@@ -40,6 +40,10 @@ constexpr CommandSpec kCommands[] = {
      &Indicator::command_learn},
     {"estimates", "estimates  what the last model dose measured: first impact, dead time, flow, impulse",
      &Indicator::command_estimates},
+    {"accept", "accept  take the held result as it is (logged with its tolerance verdict)", &Indicator::command_accept},
+    {"topup", "topup  a top-up pulse for the held result under its target, then judged again", &Indicator::command_topup},
+    {"log", "log [<n>] | log <from> <to>  the logbook: the last n results (10), or by sequence number", &Indicator::command_log},
+    {"stats", "stats [0] | stats reset  the material's last 100 fills and the totalizers", &Indicator::command_stats},
     {"help", "help  this list", &Indicator::command_help},
     {"version", "version  firmware version", &Indicator::command_version},
 };
@@ -232,9 +236,13 @@ void Indicator::command_cal(const Arguments& args) {
 
 void Indicator::command_status(const Arguments& args) {
   if (args.count != 1) return error(2, "usage: status");
+  const ToleranceFollowUp::Phase follow_up = follow_up_.phase();
   const char* state = fault_ != Fault::none                                   ? "fault"
-                      : dosing_.phase() == DosingCycle::Phase::settling       ? "settling"
-                      : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? "dosing"
+                      : follow_up == ToleranceFollowUp::Phase::holding        ? "hold"
+                      : dosing_.phase() == DosingCycle::Phase::settling ||
+                              follow_up == ToleranceFollowUp::Phase::settling ? "settling"
+                      : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ||
+                              follow_up == ToleranceFollowUp::Phase::pulsing  ? "dosing"
                                                                               : "idle";
   console_.write("STATUS state=");
   console_.write(state);
@@ -319,6 +327,7 @@ void Indicator::command_clearfault(const Arguments& args) {
 void Indicator::command_abort(const Arguments& args) {
   if (args.count != 1) return error(2, "usage: abort");
   if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
+  follow_up_.finish();  // a held or topping-up result is dropped, unlogged
   if (dose_command_pending_ || adjustment_.kind != Adjustment::Kind::none) {
     dose_command_pending_ = false;
     adjustment_.kind = Adjustment::Kind::none;

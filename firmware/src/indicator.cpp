@@ -29,6 +29,7 @@ void Indicator::apply_parameters() {
   filter_.configure(p.filter(), p.get(ParameterId::filter_hz), p.get(ParameterId::jiffy_ms) / 1000.0f);
   if (has_sample_) filter_.reset(filtered_counts_);  // otherwise the first sample primes it
   dosing_.configure(p);
+  follow_up_.configure(p);
   supervisor_.configure(p);
 }
 
@@ -46,11 +47,13 @@ bool Indicator::weight_known() const {
 // restarts it (`readtestdata info` tells which dose the recorder holds).
 bool Indicator::cycle_running() const {
   return dosing_.phase() != DosingCycle::Phase::idle || test_.active ||
-         adjustment_.kind != Adjustment::Kind::none;
+         adjustment_.kind != Adjustment::Kind::none || follow_up_.active();
 }
 
+// A dose held for the operator waits on the console: a script may send `accept` or `topup`.
 bool Indicator::busy() const {
-  return queue_count_ > 0 || printing_ || answers_after_save_ > 0 || cycle_running();
+  const bool holding = follow_up_.phase() == ToleranceFollowUp::Phase::holding;
+  return queue_count_ > 0 || printing_ || log_print_.active || answers_after_save_ > 0 || (cycle_running() && !holding);
 }
 
 // Settings that did not reach the storage hold only until power is lost: a fault, not an OK.
@@ -83,6 +86,7 @@ void Indicator::raise(Fault fault) {
   fault_ = fault;
   test_.scheduled = false;
   if (dosing_.phase() != DosingCycle::Phase::idle) dosing_.abort();
+  follow_up_.finish();
   if (dose_command_pending_ || adjustment_.kind != Adjustment::Kind::none) {
     dose_command_pending_ = false;
     adjustment_.kind = Adjustment::Kind::none;
@@ -93,6 +97,7 @@ void Indicator::raise(Fault fault) {
 
 Outputs Indicator::step(const Inputs& inputs) {
   settings_changed_ = false;
+  jiffy_ = inputs.jiffy;
   answer_after_save(inputs.settings_save);
   receive_console(inputs);
   process_sample(inputs.load_cell);
@@ -100,26 +105,35 @@ Outputs Indicator::step(const Inputs& inputs) {
   execute_queued_commands();
   advance_adjustment(inputs.load_cell.fresh);
   advance_dose();
+  advance_follow_up();
   const ValveCommand scheduled = advance_test_cycle();
+  const ValveCommand before = valve_;
   if (fault_ != Fault::none) {
     valve_ = ValveCommand::closed;
   } else if (dosing_.phase() != DosingCycle::Phase::idle) {
     valve_ = dosing_.valve();
+  } else if (follow_up_.active()) {
+    valve_ = follow_up_.valve();
   } else {
     valve_ = scheduled;
   }
+  totals_.jiffy(before, valve_, dosing_.phase() != DosingCycle::Phase::idle || follow_up_.active());
   recorder_.record(raw_sample_, std::int32_t(std::lround(filtered_weight_g())), static_cast<std::uint8_t>(valve_));
   continue_print();
+  continue_log_print();
 
   Outputs out;
   out.valve = valve_;
   out.valve_delay_100us = dosing_.phase() == DosingCycle::Phase::idle ? 0 : dosing_.valve_delay_100us();
   valve_delay_100us_ = out.valve_delay_100us;
   out.answered_counter = inputs.load_cell.counter;
+  const ToleranceFollowUp::Phase follow_up = follow_up_.phase();
   out.state = fault_ != Fault::none ? IndicatorState::fault
-              : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ? IndicatorState::dosing
-              : dosing_.phase() == DosingCycle::Phase::settling ? IndicatorState::settling
-                                                                 : IndicatorState::idle;
+              : dosing_.phase() == DosingCycle::Phase::dosing || test_.active ||
+                      follow_up == ToleranceFollowUp::Phase::pulsing
+                  ? IndicatorState::dosing
+              : dosing_.phase() == DosingCycle::Phase::settling || follow_up_.active() ? IndicatorState::settling
+                                                                                        : IndicatorState::idle;
   out.weight_100mg = weight_known() ? std::int32_t(std::lround(filtered_weight_g() * 10.0f)) : kWeightUnknown100mg;
   out.settings_changed = settings_changed_;
   out.busy = busy();
@@ -148,7 +162,7 @@ void Indicator::echo_typed(const char* text) {
 }
 
 void Indicator::execute_queued_commands() {
-  while (queue_count_ > 0 && !printing_ && answers_after_save_ == 0 && console_.free_space() >= kRoomForAnAnswer) {
+  while (queue_count_ > 0 && !printing_ && !log_print_.active && answers_after_save_ == 0 && console_.free_space() >= kRoomForAnAnswer) {
     QueuedLine& line = queue_[queue_head_];
     if (line.too_long) {
       error(2, "line too long");
@@ -258,20 +272,7 @@ void Indicator::advance_dose() {
     settings_.baselines.flowpreact = dosing_.flow_preact().learned();
     settings_changed_ = true;
   }
-  console_.write("RESULT target=");
-  console_.write_int(r.target_g);
-  console_.write(" final=");
-  console_.write_int(r.final_g);
-  console_.write(" error=");
-  console_.write_int(r.final_g - r.target_g);
-  console_.write(" time=");
-  console_.write_int(r.time_ms);
-  console_.write(" cutoff=");
-  console_.write_int(r.cutoff_jiffy);
-  console_.write(" strategy=");
-  console_.line(strategy_name(r.strategy));
-  ok();
-  dose_command_pending_ = false;
+  conclude_dose();
 }
 
 ValveCommand Indicator::advance_test_cycle() {

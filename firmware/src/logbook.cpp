@@ -13,17 +13,6 @@ constexpr std::size_t kCrcOffset = kLogRecordSize - 4;
 
 }  // namespace
 
-const char* tolerance_verdict_name(ToleranceVerdict verdict) {
-  switch (verdict) {
-    case ToleranceVerdict::ok: return "ok";
-    case ToleranceVerdict::warn_low: return "warn_low";
-    case ToleranceVerdict::warn_high: return "warn_high";
-    case ToleranceVerdict::low: return "low";
-    case ToleranceVerdict::high: return "high";
-  }
-  return "?";
-}
-
 void encode_log_record(const LogRecord& record, std::uint8_t* out) {
   put_u32(out, kLogMagic);
   put_u32(out + 4, record.sequence);

@@ -9,6 +9,7 @@ namespace {
 constexpr const char* kFilterNames[] = {"none", "avg", "iir"};
 constexpr const char* kCertifyNames[] = {"auto", "stable", "dynamic"};
 constexpr const char* kEstimatorNames[] = {"line", "observer"};
+constexpr const char* kToleranceActionNames[] = {"accept", "topup", "hold"};
 
 // The defaults are the thesis' setup (its table 2.2) and the default scene's valve (docs/scenes.md). `preact_g` is
 // tuned for that setup: the mean rest-drop seen through the display filter over 20 fills (docs/console.md, parameters).
@@ -58,6 +59,17 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
      "adapted after each fill, g", 0, 100000, 1500, nullptr, 0},
     {"plc_watchdog_ms", "abort a PLC's dose after this long without a Modbus request, ms; 0: off", 0, 600000,
      0, nullptr, 0},
+    {"class", "OIML R61 class X(x) the tolerance bands come from: x", 0.1f, 100, 1, nullptr, 0},
+    {"tol_warn_low_g", "warning band below the target (TL1), g; 0: X(x) at initial verification", 0, 100000, 0,
+     nullptr, 0},
+    {"tol_warn_high_g", "warning band above the target (TH1), g; 0: X(x) at initial verification", 0, 100000, 0,
+     nullptr, 0},
+    {"tol_reject_low_g", "reject band below the target (TL2), g; 0: X(x) in service", 0, 100000, 0, nullptr, 0},
+    {"tol_reject_high_g", "reject band above the target (TH2), g; 0: X(x) in service", 0, 100000, 0, nullptr, 0},
+    {"tol_action", "a result outside the reject band: accept, topup (while low), hold (for accept or topup)", 0,
+     2, 0, kToleranceActionNames, 3},
+    {"topup_max", "top-up pulses at most per dose", 0, 20, 3, nullptr, 0},
+    {"topup_ms", "a top-up pulse opens the valve this long, ms", 10, 5000, 50, nullptr, 0},
 };
 
 // The longest text write_decimal(value, 3) gives for a value in [minimum, maximum].

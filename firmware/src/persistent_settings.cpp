@@ -9,8 +9,11 @@ namespace dynweigh::firmware {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
-// 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned
-constexpr std::uint16_t kVersion = 4;
+// 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
+// 5: the tolerance parameters
+constexpr std::uint16_t kVersion = 5;
+constexpr std::uint16_t kVersionBeforeTolerance = 4;
+constexpr std::size_t kParametersBeforeTolerance = static_cast<std::size_t>(ParameterId::oiml_class);
 
 void put_f32(std::uint8_t* p, float f) {
   std::uint32_t v;
@@ -123,11 +126,15 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
 }
 
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
-  if (length < kSettingsRecordSize) return false;
-  if (get_u32(data) != kMagic) return false;
-  if ((data[4] | (data[5] << 8)) != kVersion || data[6] != kParameterCount) return false;
-  if (get_u32(data + 8) != kSettingsRecordSize) return false;
-  if (get_u32(data + 12) != (crc32(data + 16, kSettingsRecordSize - 16) ^ crc32(data, 12))) return false;
+  if (length < 16 || get_u32(data) != kMagic) return false;
+  const int version = data[4] | (data[5] << 8);
+  const std::size_t parameter_count = version == kVersion                  ? kParameterCount
+                                      : version == kVersionBeforeTolerance ? kParametersBeforeTolerance
+                                                                           : 0;
+  const std::size_t record_size = settings_record_size(parameter_count);
+  if (parameter_count == 0 || data[6] != parameter_count || length < record_size) return false;
+  if (get_u32(data + 8) != record_size) return false;
+  if (get_u32(data + 12) != (crc32(data + 16, record_size - 16) ^ crc32(data, 12))) return false;
   PersistentSettings decoded;
   const std::uint8_t* body = data + 16;
   decoded.calibration.zero_counts = std::int32_t(get_u32(body));
@@ -143,12 +150,12 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
       (cal.span_set && !(cal.counts_per_gram > 0.0f))) {
     cal = Calibration{};
   }
-  for (std::size_t i = 0; i < kParameterCount; ++i) {
+  for (std::size_t i = 0; i < parameter_count; ++i) {
     // A value outside today's range (an older firmware's table) falls back to the default, and so
     // does a read-only one (jiffy_ms: the board's, whatever an older firmware stored).
     decoded.parameters.set(static_cast<ParameterId>(i), get_f32(body + 12 + 4 * i));
   }
-  const std::uint8_t* table = body + 12 + 4 * kParameterCount;
+  const std::uint8_t* table = body + 12 + 4 * parameter_count;
   for (std::size_t i = 0; i < LearningTable::kEntries; ++i) {
     const std::uint8_t* p = table + kLearningEntryBytes * i;
     LearningTable::Entry& e = decoded.learning.entry(i);

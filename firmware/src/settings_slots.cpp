@@ -7,9 +7,15 @@ namespace {
 
 constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
 
-std::uint32_t slot_crc(const std::uint8_t* slot) {
+// The record before the tolerance parameters, and where its second slot lay: a board updated from
+// that firmware still finds its settings (the next save writes today's layout).
+constexpr std::size_t kRecordSizeBeforeTolerance =
+    settings_record_size(static_cast<std::size_t>(ParameterId::oiml_class));
+constexpr std::size_t kSlotSizeBeforeTolerance = kSlotHeaderSize + kRecordSizeBeforeTolerance;
+
+std::uint32_t slot_crc(const std::uint8_t* slot, std::size_t payload) {
   // Over sequence and length (bytes 4..11) and the payload.
-  return crc32(slot + 4, 8) ^ crc32(slot + kSlotHeaderSize, kSettingsRecordSize);
+  return crc32(slot + 4, 8) ^ crc32(slot + kSlotHeaderSize, payload);
 }
 // Serial-number order (RFC 1982): `a` is newer than `b` even across the wrap of the counter.
 bool newer(std::uint32_t a, std::uint32_t b) { return std::int32_t(a - b) > 0; }
@@ -25,17 +31,18 @@ std::size_t encode_slot(const PersistentSettings& settings, std::uint32_t sequen
   put_u32(out, kSlotMagic);
   put_u32(out + 4, sequence);
   put_u32(out + 8, std::uint32_t(kSettingsRecordSize));
-  put_u32(out + 12, slot_crc(out));
+  put_u32(out + 12, slot_crc(out, kSettingsRecordSize));
   return kSlotSize;
 }
 
 bool decode_slot(const std::uint8_t* data, std::size_t length, PersistentSettings& settings,
                  std::uint32_t& sequence) {
-  if (length < kSlotSize) return false;
-  if (get_u32(data) != kSlotMagic || get_u32(data + 8) != kSettingsRecordSize) return false;
-  if (get_u32(data + 12) != slot_crc(data)) return false;
+  if (length < kSlotHeaderSize || get_u32(data) != kSlotMagic) return false;
+  const std::size_t payload = get_u32(data + 8);
+  if (payload != kSettingsRecordSize && payload != kRecordSizeBeforeTolerance) return false;
+  if (length < kSlotHeaderSize + payload || get_u32(data + 12) != slot_crc(data, payload)) return false;
   PersistentSettings decoded;
-  if (!decode_settings(data + kSlotHeaderSize, kSettingsRecordSize, decoded)) return false;
+  if (!decode_settings(data + kSlotHeaderSize, payload, decoded)) return false;
   settings = decoded;
   sequence = get_u32(data + 4);
   return true;
@@ -48,10 +55,12 @@ bool SettingsSlots::scan(PersistentSettings* settings) {
   PersistentSettings newest_settings;
   for (std::size_t slot = 0; slot < kSlotCount; ++slot) {
     std::uint8_t image[kSlotSize];
-    if (!nvm_.read(slot * kSlotSize, image, kSlotSize)) continue;
     PersistentSettings decoded;
     std::uint32_t sequence = 0;
-    if (!decode_slot(image, kSlotSize, decoded, sequence)) continue;
+    const bool found = (nvm_.read(slot * kSlotSize, image, kSlotSize) && decode_slot(image, kSlotSize, decoded, sequence)) ||
+                       (nvm_.read(slot * kSlotSizeBeforeTolerance, image, kSlotSizeBeforeTolerance) &&
+                        decode_slot(image, kSlotSizeBeforeTolerance, decoded, sequence));
+    if (!found) continue;
     if (newest_ < 0 || newer(sequence, sequence_)) {
       newest_ = int(slot);
       sequence_ = sequence;

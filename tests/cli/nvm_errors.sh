@@ -47,7 +47,9 @@ damaged "a truncated file" cut.nvm
 
 # A file cut inside its second slot still holds the first (here the older record: the start-up
 # defaults, before fall_mm 1400 went to the second slot): used, with a warning that it is short.
-printf 'param fall_mm 1400\n' | "$fw" --nvm short.nvm > /dev/null; truncate -s $(( $(stat -c %s short.nvm) * 3 / 4 )) short.nvm
+# The slot's size from its header (16 bytes and the record's length at byte 8): the logbook follows them.
+printf 'param fall_mm 1400\n' | "$fw" --nvm short.nvm > /dev/null
+slot=$(( 16 + $(od -An -tu4 -j8 -N4 short.nvm) )); truncate -s $(( slot + slot / 2 )) short.nvm
 printf 'param fall_mm\n' | "$fw" --nvm short.nvm > out.txt 2> err.txt
 check "a truncated file with one intact slot: its record, with a warning" \
   'grep -qx "fall_mm=1200" out.txt && grep -q "warning: --nvm short.nvm is [0-9]* bytes, not [0-9]* (truncated)" err.txt'

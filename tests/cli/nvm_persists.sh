@@ -12,9 +12,9 @@ python3 - "$work/nvm.bin" <<'PY'
 import struct, sys
 path = sys.argv[1]
 data = bytearray(open(path, "rb").read())
-half = len(data) // 2
-sequences = [struct.unpack_from("<I", data, offset + 4)[0] for offset in (0, half)]
-newest = 0 if sequences[0] > sequences[1] else half
+slot = 16 + struct.unpack_from("<I", data, 8)[0]  # header and record; the logbook follows the two slots
+sequences = [struct.unpack_from("<I", data, offset + 4)[0] for offset in (0, slot)]
+newest = 0 if sequences[0] > sequences[1] else slot
 data[newest + 40] ^= 0xFF  # a bit-flipped parameter in the newest record
 open(path, "wb").write(data)
 PY

@@ -18,8 +18,9 @@ namespace dynweigh::testing {
 class ConsoleSession {
  public:
   explicit ConsoleSession(const sim::Scene& scene = sim::default_scene(), std::uint64_t seed = 1,
-                          std::optional<firmware::PersistentSettings> settings = std::nullopt)
-      : session_(scene, seed, settings),
+                          std::optional<firmware::PersistentSettings> settings = std::nullopt,
+                          hal::SettingsStore* store = nullptr)
+      : session_(scene, seed, settings, store),
         console_([this](std::string& line) { return next_line(line); },
                  [this](const char* data, std::size_t n) { output_.append(data, n); }) {}
 

@@ -165,8 +165,9 @@ def check_result_against(regs, command, result_line, csv_path, console_line):
     if int32(regs, FINAL) != final_g * 10 or int32(regs, ERROR) != error_g * 10 or uint32(regs, TIME) != time_ms:
         fail(f"result registers final={int32(regs, FINAL)} dg error={int32(regs, ERROR)} dg "
              f"time={uint32(regs, TIME)} ms disagree with the console's RESULT")
-    if regs[TOLERANCE] != 0 or regs[TOPUPS] != 0:
-        fail("tolerance and topups must read 0 when RESULT has no such fields")
+    verdicts = {"ok": 0, "warn_low": 1, "warn_high": 2, "low": 3, "high": 4}
+    if regs[TOLERANCE] != verdicts[field(result_line, "tolerance")] or regs[TOPUPS] != int(field(result_line, "topups")):
+        fail(f"tolerance {regs[TOLERANCE]} and topups {regs[TOPUPS]} registers disagree with the console's RESULT")
     if regs[STATE] != 0 or regs[VALVE] != 0 or regs[FAULT] != 0:
         fail(f"after the result: state {regs[STATE]}, valve {regs[VALVE]}, fault {regs[FAULT]}; want 0, 0, 0")
     # The result is certified from the platform's ringing, before the reading has settled.

@@ -10,6 +10,7 @@
 
 #include "dynweigh/hal/can/protocol.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
+#include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 #include "dynweigh/hal/host/stream_line_reader.hpp"
@@ -106,6 +107,9 @@ class CsvTrace {
 int run_can_plant(const CanPlantOptions& options) {
   NvmStart nvm = open_nvm(options.nvm, options.nvm_reset);
   firmware::Indicator indicator(initial_settings(nvm, options.nvm));
+  // Without --nvm the results since start-up, in RAM (as the in-process board keeps them).
+  auto ram_logbook = std::make_unique<firmware::RamLogbook<hal::host::LockstepSession::kRamLogbookSlots>>();
+  indicator.attach_logbook(nvm.store ? nvm.store->logbook() : &ram_logbook->logbook());
   const std::unique_ptr<hal::linux_can::CanTransport> link = hal::linux_can::open_can_transport(options.transport);
   std::unique_ptr<CsvTrace> csv;
   if (!options.csv.empty()) csv = std::make_unique<CsvTrace>(options.csv);

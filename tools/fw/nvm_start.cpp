@@ -21,7 +21,7 @@ NvmStart open_nvm(const std::string& path, bool reset) {
   nvm.fresh = !nvm.stored;
   struct stat st {};
   const long long bytes = ::stat(path.c_str(), &st) == 0 ? static_cast<long long>(st.st_size) : -1;
-  const std::size_t expected = firmware::kSettingsSlotsBytes;
+  const std::size_t expected = hal::host::kNvmFileBytes;
   if (file == NvmFile::wrong_size && nvm.stored) {
     std::fprintf(stderr,
                  "dynweigh-fw: warning: --nvm %s is %lld bytes, not %zu (%s): using the intact record it still "

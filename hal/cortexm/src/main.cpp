@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/firmware/ram_nvm.hpp"
 #include "dynweigh/hal/can/protocol.hpp"
 #include "dynweigh/hal/can/sample_sequence.hpp"
 #include "dynweigh/hal/can/slcan.hpp"
@@ -146,6 +147,11 @@ extern "C" int board_main() {
   const CmsdkUart console(Board::kConsoleUart, Board::kCpuHz, Board::kBaud);
   const CmsdkUart plant(Board::kPlantUart, Board::kCpuHz, Board::kBaud);
   start_systick();
+  // No non-volatile memory on this board: the logbook keeps the last results since reset in RAM
+  // (a board with an EEPROM gives Logbook an NvmBlock over it). Here, not a global: board_main
+  // never returns, and no destructor is registered.
+  fw::RamLogbook<Board::kRamLogbookSlots> logbook;
+  g_indicator.attach_logbook(&logbook.logbook());
 
   const char* banner = "dynweigh " ;
   for (const char* p = banner; *p; ++p) g_console_tx.push(*p);

@@ -18,15 +18,25 @@ std::runtime_error nvm_error(const std::string& path, const std::string& reason)
 }
 
 bool all_erased(int fd) {
-  std::vector<std::uint8_t> bytes(firmware::kSettingsSlotsBytes);
+  std::vector<std::uint8_t> bytes(kNvmFileBytes);
   return ::pread(fd, bytes.data(), bytes.size(), 0) == ssize_t(bytes.size()) &&
          std::all_of(bytes.begin(), bytes.end(), [](std::uint8_t b) { return b == 0xFF; });
 }
 
 void erase(int fd, const std::string& path) {
-  const std::vector<std::uint8_t> erased(firmware::kSettingsSlotsBytes, 0xFF);
+  const std::vector<std::uint8_t> erased(kNvmFileBytes, 0xFF);
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, erased.data(), erased.size(), 0) != ssize_t(erased.size()) ||
       ::fsync(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::close(fd);
+    throw nvm_error(path, "cannot write: " + reason);
+  }
+}
+
+// An older version's file, the settings alone: the logbook's part is added, erased.
+void grow(int fd, const std::string& path, std::size_t from) {
+  const std::vector<std::uint8_t> erased(kNvmFileBytes - from, 0xFF);
+  if (::pwrite(fd, erased.data(), erased.size(), off_t(from)) != ssize_t(erased.size()) || ::fsync(fd) != 0) {
     const std::string reason = std::strerror(errno);
     ::close(fd);
     throw nvm_error(path, "cannot write: " + reason);
@@ -46,7 +56,9 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset) {
   if (!exists || reset) {
     erase(fd, path);
     state = exists ? NvmFile::erased : NvmFile::created;
-  } else if (st.st_size != off_t(firmware::kSettingsSlotsBytes)) {
+  } else if (st.st_size == off_t(kSettingsOnlyFileBytes)) {
+    grow(fd, path, std::size_t(st.st_size));
+  } else if (st.st_size != off_t(kNvmFileBytes)) {
     state = NvmFile::wrong_size;
   } else if (all_erased(fd)) {
     state = NvmFile::erased;

@@ -267,6 +267,7 @@ LockstepRecorder::LockstepRecorder(const std::string& path, LockstepSession& ses
     : session_(session),
       writer_(path, session.indicator().settings(), source),
       shadow_(std::make_unique<firmware::Indicator>(session.indicator().settings())) {
+  shadow_->resume_sequence(session.indicator().last_sequence());  // the logbook is the board's
   if (session.jiffy() != 0) throw std::runtime_error("a recording must start at the session's first jiffy, not " + std::to_string(session.jiffy()));
 }
 

@@ -8,7 +8,9 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
       load_cell_(plant_),
       valve_(plant_, kJiffyS),
       indicator_(settings ? *settings : factory_settings(plant_)),
-      store_(store) {}
+      store_(store) {
+  indicator_.attach_logbook(store && store->logbook() ? store->logbook() : &ram_logbook_.logbook());
+}
 
 firmware::Outputs LockstepSession::step(ConsolePort& console) {
   const sim::PlantTruth truth = plant_.truth();  // at the instant the sample is taken

@@ -58,6 +58,8 @@ class DosingCycle {
   std::uint8_t valve_delay_100us() const { return valve_delay_100us_; }
   float last_prediction_g() const { return last_prediction_g_; }
   const DoseResult& result() const { return result_; }
+  // The standstill weight the dose started from (a top-up measures its final from it too).
+  float start_weight_g() const { return start_weight_g_; }
   // After a certified twostage fill: its fine preact and coarse time, adapted.
   const TwoStageCutoff& two_stage() const { return two_stage_; }
   // What the pac and flowpreact baselines learned: restored before a dose, read after its result.

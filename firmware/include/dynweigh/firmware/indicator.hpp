@@ -11,10 +11,13 @@
 #include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/fault_supervisor.hpp"
 #include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/logbook.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
 #include "dynweigh/firmware/standstill_average.hpp"
 #include "dynweigh/firmware/test_data_recorder.hpp"
 #include "dynweigh/firmware/text_writer.hpp"
+#include "dynweigh/firmware/tolerance_follow_up.hpp"
+#include "dynweigh/firmware/totalizers.hpp"
 
 namespace dynweigh::firmware {
 
@@ -30,6 +33,15 @@ class Indicator {
   }
 
   const PersistentSettings& settings() const { return settings_; }
+  // The board's logbook (opened): every certified result is appended to it, numbered on from its
+  // newest record. Without one the results are still numbered (a replay's indicator, started where
+  // the recorded one was with resume_sequence), and `log` and `stats` have nothing to show.
+  void attach_logbook(Logbook* logbook) {
+    logbook_ = logbook;
+    last_sequence_ = logbook ? logbook->last_sequence() : 0;
+  }
+  void resume_sequence(std::uint32_t last) { last_sequence_ = last; }
+  std::uint32_t last_sequence() const { return last_sequence_; }
   float filtered_weight_g() const;
   // A weight can be shown: calibrated, and a sample has come and is not stale.
   bool weight_known() const;
@@ -62,6 +74,10 @@ class Indicator {
   void command_abort(const Arguments& args);
   void command_learn(const Arguments& args);
   void command_estimates(const Arguments& args);
+  void command_accept(const Arguments& args);
+  void command_topup(const Arguments& args);
+  void command_log(const Arguments& args);
+  void command_stats(const Arguments& args);
   void command_help(const Arguments& args);
   void command_version(const Arguments& args);
 
@@ -98,8 +114,15 @@ class Indicator {
   void raise(Fault fault);
   void supervise(const Inputs& inputs);
   void advance_dose();
+  // The certified result judged against its tolerance: reported, topped up or held (fill_conclusion.cpp).
+  void conclude_dose();
+  void advance_follow_up();
+  void judge_result();
+  void report_result();
+  void report_hold();
   ValveCommand advance_test_cycle();
   void continue_print();
+  void continue_log_print();
   void apply_parameters();
   void echo_typed(const char* text);
   void start_adjustment(Adjustment::Kind kind, std::int32_t grams);
@@ -156,6 +179,17 @@ class Indicator {
   float screened_counts_ = 0.0f;  // the sample the filter and the dose use (outliers held out)
 
   DosingCycle dosing_;
+  ToleranceFollowUp follow_up_;
+  DoseResult concluding_;  // the certified result being judged, topped up or held
+  ToleranceVerdict verdict_ = ToleranceVerdict::ok;
+  Logbook* logbook_ = nullptr;
+  std::uint32_t last_sequence_ = 0;  // the last result's number
+  struct LogPrint {
+    bool active = false;
+    std::uint32_t next = 0, last = 0;  // sequence numbers still to print
+  } log_print_;
+  std::uint32_t jiffy_ = 0;  // the board's jiffy count, for the logbook
+  Totalizers totals_;
   bool dose_command_pending_ = false;  // `dose` answers when it ends
   TestCycle test_;
   TestDataRecorder recorder_;

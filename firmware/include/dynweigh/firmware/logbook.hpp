@@ -12,12 +12,9 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/settings_slots.hpp"
+#include "dynweigh/firmware/tolerance.hpp"
 
 namespace dynweigh::firmware {
-
-// The verdict of a result against the tolerance bands it was dosed to.
-enum class ToleranceVerdict : std::uint8_t { ok = 0, warn_low = 1, warn_high = 2, low = 3, high = 4 };
-const char* tolerance_verdict_name(ToleranceVerdict verdict);
 
 struct LogRecord {
   std::uint32_t sequence = 0;  // assigned by Logbook::append, 1 for the first record ever

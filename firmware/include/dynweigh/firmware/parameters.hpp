@@ -37,6 +37,14 @@ enum class ParameterId : std::uint8_t {
   echo,
   twostage_coarse_g,
   plc_watchdog_ms,
+  oiml_class,  // `class`
+  tol_warn_low_g,
+  tol_warn_high_g,
+  tol_reject_low_g,
+  tol_reject_high_g,
+  tol_action,
+  topup_max,
+  topup_ms,
   count
 };
 
@@ -57,7 +65,7 @@ const ParameterSpec& parameter_spec(ParameterId id);
 
 // The `param` listing (one `name=value  # description` line a parameter, then OK) fits in this
 // many bytes: parameters.cpp checks it at compile time, the console reserves it before answering.
-inline constexpr std::size_t kParameterListingMaxBytes = 2700;
+inline constexpr std::size_t kParameterListingMaxBytes = 3500;
 // The parameter named `name`, or ParameterId::count.
 ParameterId find_parameter(const char* name);
 

@@ -37,14 +37,18 @@ inline constexpr std::size_t kLearningEntryBytes = 12;
 inline constexpr std::size_t kRlsStateBytes = 24;
 // pac: spill law, blind law; flowpreact: lag f32, fills u16, pad, blind law.
 inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + kRlsStateBytes;
-inline constexpr std::size_t kSettingsRecordSize =
-    16 + 12 + 4 * kParameterCount + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes;
+// A record's size with `parameter_count` parameters (an older firmware's record has fewer).
+constexpr std::size_t settings_record_size(std::size_t parameter_count) {
+  return 16 + 12 + 4 * parameter_count + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes;
+}
+inline constexpr std::size_t kSettingsRecordSize = settings_record_size(kParameterCount);
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 
 // Writes the record; returns its size (kSettingsRecordSize) or 0 if `capacity` is too small.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity);
-// False (and `settings` untouched) unless the record is complete, current and intact.
+// False (and `settings` untouched) unless the record is complete and intact, and this firmware's or
+// the one before (version 4, without the tolerance parameters: they take their defaults).
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings);
 
 }  // namespace dynweigh::firmware

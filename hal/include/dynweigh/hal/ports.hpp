@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/logbook.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
 
 namespace dynweigh::hal {
@@ -53,6 +54,8 @@ class SettingsStore {
   virtual ~SettingsStore() = default;
   virtual bool load(firmware::PersistentSettings& settings) = 0;
   virtual bool save(const firmware::PersistentSettings& settings) = 0;
+  // The logbook kept in the same memory (opened), or null: the board then keeps one in RAM.
+  virtual firmware::Logbook* logbook() { return nullptr; }
 };
 
 }  // namespace dynweigh::hal

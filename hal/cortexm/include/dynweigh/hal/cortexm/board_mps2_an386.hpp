@@ -3,6 +3,7 @@
 // here and in the linker script, nothing else. To port (e.g. an STM32F407 with a CAN transceiver),
 // write a board struct with the same members: the console UART, the plant link (SLCAN on a UART
 // here; bxCAN on an STM32), the SysTick reload for 10 ms, and the factory settings.
+#include <cstddef>
 #include <cstdint>
 
 #include "dynweigh/firmware/persistent_settings.hpp"
@@ -20,6 +21,8 @@ struct BoardMps2An386 {
   static constexpr std::uintptr_t kConsoleUart = 0x40004000;  // UART0: -serial #1
   static constexpr std::uintptr_t kPlantUart = 0x40005000;    // UART1: -serial #2, SLCAN
   static constexpr std::uint32_t kBaud = 115200;
+  // The logbook's ring in RAM (one slot fewer kept): what the 32 KB leave beside the console rings.
+  static constexpr std::size_t kRamLogbookSlots = 17;
 
   // Once the plant was heard, this many ticks without a sample run a jiffy without one (each tick
   // after that another), so a silent link becomes the can_silence fault 10 jiffies later. Generous

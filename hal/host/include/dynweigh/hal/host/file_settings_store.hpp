@@ -9,11 +9,17 @@
 
 namespace dynweigh::hal::host {
 
-// The file as a byte-addressed memory of kSettingsSlotsBytes; bytes never written read as erased (0xFF).
+// The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
+// fewer kept). A file of an older version (the settings alone, kSettingsOnlyFileBytes) is grown.
+inline constexpr std::size_t kFileLogbookSlots = 1001;
+inline constexpr std::size_t kNvmFileBytes = firmware::kSettingsSlotsBytes + kFileLogbookSlots * firmware::kLogRecordSize;
+inline constexpr std::size_t kSettingsOnlyFileBytes = 872;
+
+// The file as a byte-addressed memory of kNvmFileBytes; bytes never written read as erased (0xFF).
 class FileNvm final : public firmware::NvmBlock {
  public:
   explicit FileNvm(std::string path) : path_(std::move(path)) {}
-  std::size_t size() const override { return firmware::kSettingsSlotsBytes; }
+  std::size_t size() const override { return kNvmFileBytes; }
   bool read(std::size_t offset, std::uint8_t* data, std::size_t length) const override;
   bool write(std::size_t offset, const std::uint8_t* data, std::size_t length) override;
 
@@ -26,7 +32,7 @@ enum class NvmFile {
   created,     // there was none: made now, erased (0xFF) at its full size, as a new board's EEPROM
   erased,      // full size and never written (or reset with --nvm-reset): a new board
   sized,       // full size, written before: load() tells whether a record is intact
-  wrong_size,  // shorter (truncated) or longer than the two slots: damaged, or not ours
+  wrong_size,  // shorter (truncated) or longer than kNvmFileBytes: damaged, or not ours
 };
 
 // Checks that `path` can keep the settings: an existing regular file the board can read and write,
@@ -37,13 +43,15 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset);
 
 class FileSettingsStore final : public SettingsStore {
  public:
-  explicit FileSettingsStore(std::string path) : nvm_(std::move(path)), slots_(nvm_) {}
+  explicit FileSettingsStore(std::string path) : nvm_(std::move(path)), slots_(nvm_) { logbook_.open(); }
   bool load(firmware::PersistentSettings& settings) override { return slots_.load(settings); }
   bool save(const firmware::PersistentSettings& settings) override { return slots_.save(settings); }
+  firmware::Logbook* logbook() override { return &logbook_; }
 
  private:
   FileNvm nvm_;
   firmware::SettingsSlots slots_;
+  firmware::Logbook logbook_{nvm_, firmware::kSettingsSlotsBytes, kFileLogbookSlots};
 };
 
 }  // namespace dynweigh::hal::host

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/firmware/ram_nvm.hpp"
 #include "dynweigh/hal/control_loop.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
 #include "dynweigh/sim/plant.hpp"
@@ -29,6 +30,8 @@ inline constexpr const char* kTraceHeader = "t_s,jiffy,static_kg,in_flight_kg,fo
 class LockstepSession {
  public:
   static constexpr double kJiffyS = 0.010;
+  // A board without storage keeps its logbook in RAM: the results since it started.
+  static constexpr std::size_t kRamLogbookSlots = 129;
 
   // Without settings the indicator starts calibrated to the plant with default parameters.
   LockstepSession(const sim::Scene& scene, std::uint64_t seed,
@@ -61,6 +64,7 @@ class LockstepSession {
   SimulatedValve valve_;
   firmware::Indicator indicator_;
   SettingsStore* store_;
+  firmware::RamLogbook<kRamLogbookSlots> ram_logbook_;  // without a store's
   firmware::SettingsSave save_report_ = firmware::SettingsSave::none;       // for the next step
   firmware::SettingsSave last_save_report_ = firmware::SettingsSave::none;  // the last step had
   std::uint32_t jiffy_ = 0;

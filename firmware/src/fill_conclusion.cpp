@@ -1,0 +1,117 @@
+// What becomes of a certified result: judged against its tolerance bands, then reported (a RESULT
+// line and a logbook record), topped up, or held for the operator's `accept` or `topup`.
+#include <cmath>
+
+#include "dynweigh/firmware/indicator.hpp"
+
+namespace dynweigh::firmware {
+
+void Indicator::conclude_dose() {
+  concluding_ = dosing_.result();
+  follow_up_.begin(dosing_.start_weight_g());
+  judge_result();
+}
+
+// Each jiffy of a top-up: the pulse, then the settling; a settled scale is judged anew.
+void Indicator::advance_follow_up() {
+  const ToleranceFollowUp::Phase phase = follow_up_.phase();
+  if (phase != ToleranceFollowUp::Phase::pulsing && phase != ToleranceFollowUp::Phase::settling) return;
+  switch (follow_up_.step(filtered_weight_g())) {
+    case ToleranceFollowUp::Event::none:
+      return;
+    case ToleranceFollowUp::Event::never_stable:
+      return raise(Fault::never_stable);
+    case ToleranceFollowUp::Event::settled:
+      concluding_.final_g = std::int32_t(std::lround(follow_up_.settled_fill_g()));
+      return judge_result();
+  }
+}
+
+void Indicator::judge_result() {
+  const Parameters& p = settings_.parameters;
+  verdict_ = judge_tolerance(float(concluding_.final_g - concluding_.target_g),
+                             tolerance_bands(float(concluding_.target_g), p));
+  const auto action = static_cast<ToleranceAction>(static_cast<int>(p.get(ParameterId::tol_action)));
+  if (!outside_reject_band(verdict_) || action == ToleranceAction::accept) return report_result();
+  if (action == ToleranceAction::topup && verdict_ == ToleranceVerdict::low && follow_up_.may_top_up()) {
+    return follow_up_.start_top_up();
+  }
+  if (action == ToleranceAction::hold) return report_hold();
+  report_result();  // topup: over the target, or topup_max reached
+}
+
+void Indicator::report_hold() {
+  follow_up_.hold();
+  dose_command_pending_ = false;
+  console_.write("HOLD target=");
+  console_.write_int(concluding_.target_g);
+  console_.write(" final=");
+  console_.write_int(concluding_.final_g);
+  console_.write(" error=");
+  console_.write_int(concluding_.final_g - concluding_.target_g);
+  console_.write(" tolerance=");
+  console_.write(tolerance_verdict_name(verdict_));
+  console_.write(" topups=");
+  console_.write_int(follow_up_.topups());
+  console_.put('\n');
+  ok();
+}
+
+void Indicator::report_result() {
+  follow_up_.finish();
+  dose_command_pending_ = false;
+  LogRecord record;
+  record.jiffy = jiffy_;
+  record.target_dg = concluding_.target_g * 10;
+  record.final_dg = concluding_.final_g * 10;
+  record.material = 0;
+  record.tolerance = verdict_;
+  record.topups = follow_up_.topups();
+  const bool logged = !logbook_ || logbook_->append(record);
+  if (logged) last_sequence_ = logbook_ ? record.sequence : last_sequence_ + 1;
+  totals_.total_g += float(concluding_.final_g);
+  const DoseResult& r = concluding_;
+  console_.write("RESULT target=");
+  console_.write_int(r.target_g);
+  console_.write(" final=");
+  console_.write_int(r.final_g);
+  console_.write(" error=");
+  console_.write_int(r.final_g - r.target_g);
+  console_.write(" time=");
+  console_.write_int(r.time_ms);
+  console_.write(" cutoff=");
+  console_.write_int(r.cutoff_jiffy);
+  console_.write(" strategy=");
+  console_.write(strategy_name(r.strategy));
+  console_.write(" tolerance=");
+  console_.write(tolerance_verdict_name(verdict_));
+  console_.write(" topups=");
+  console_.write_int(record.topups);
+  console_.write(" seq=");
+  console_.write_int(logged ? last_sequence_ : 0);
+  console_.put('\n');
+  if (!logged) {
+    // A result the alibi memory could not keep is no certified fill: a fault, not an OK.
+    raise(Fault::nvm_error);
+    return error(4, "fault nvm_error");
+  }
+  ok();
+}
+
+void Indicator::command_accept(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: accept");
+  if (follow_up_.phase() != ToleranceFollowUp::Phase::holding) return error(2, "no result held");
+  report_result();
+}
+
+void Indicator::command_topup(const Arguments& args) {
+  if (args.count != 1) return error(2, "usage: topup");
+  if (follow_up_.phase() != ToleranceFollowUp::Phase::holding) return error(2, "no result held");
+  if (fault_ != Fault::none) return error(4, "fault active");
+  if (concluding_.final_g >= concluding_.target_g) return error(2, "not under the target");
+  if (!follow_up_.may_top_up()) return error(2, "topup_max reached");
+  follow_up_.start_top_up();
+  dose_command_pending_ = true;  // answers like the dose: RESULT, or HOLD again
+}
+
+}  // namespace dynweigh::firmware
