@@ -181,9 +181,11 @@ InputsRecordingReader::InputsRecordingReader(const std::string& path)
                              std::to_string(kInputsRecordingVersion));
   }
   const std::uint32_t settings_size = in.u32("the header");
-  if (settings_size != firmware::kSettingsRecordSize) {
-    throw std::runtime_error(path + ": settings record of " + std::to_string(settings_size) + " bytes, this build's is " +
-                             std::to_string(firmware::kSettingsRecordSize));
+  // An earlier firmware's record is smaller; decode_settings below knows which versions it reads.
+  if (settings_size > firmware::kSettingsRecordSize) {
+    throw std::runtime_error(path + ": settings record of " + std::to_string(settings_size) +
+                             " bytes, more than this build's " + std::to_string(firmware::kSettingsRecordSize) +
+                             " (a newer firmware's recording)");
   }
   const std::string settings = in.bytes(settings_size, "the settings");
   const std::uint16_t source_length = in.u16("the header");
