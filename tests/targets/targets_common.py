@@ -2,6 +2,7 @@
 import os
 import re
 import socket
+import struct
 import subprocess
 import sys
 import time
@@ -73,3 +74,16 @@ def which(program):
         if os.path.isfile(p) and os.access(p, os.X_OK):
             return p
     return None
+
+
+def frame(can_id, data):
+    """A CAN frame as the udp: transport carries it: id (u32), length (u8), 3 pad bytes, 8 data bytes."""
+    return struct.pack("<IB3x8s", can_id, len(data), bytes(data).ljust(8, b"\0"))
+
+
+def parse(datagram):
+    """(id, data) of a udp: datagram; (None, b"") for one of the wrong size."""
+    if len(datagram) != 16:
+        return None, b""
+    can_id, length = struct.unpack_from("<IB", datagram)
+    return can_id, datagram[8:8 + length]

@@ -10,24 +10,13 @@ import struct
 import subprocess
 import time
 
-from targets_common import fail, free_udp_ports, key_values, stop
+from targets_common import fail, frame, free_udp_ports, key_values, parse, stop
 
 ID_SAMPLE, ID_VALVE_COMMAND, ID_GATE_COMMAND, ID_GATE_FEEDBACK = 0x190, 0x220, 0x228, 0x1A8
 JIFFIES = 700
 VALVE_OPEN = range(0, 150)     # 1.5 s of full flow: about 3 kg
 GATE_OPEN = range(300, 600)    # 3 s open: enough to empty it
 COUNTS_PER_G = 1.0             # the default scene: 1 count per gram
-
-
-def frame(can_id, data):
-    return struct.pack("<IB3x8s", can_id, len(data), bytes(data).ljust(8, b"\0"))
-
-
-def parse(datagram):
-    if len(datagram) != 16:
-        return None, b""
-    can_id, length = struct.unpack_from("<IB", datagram)
-    return can_id, datagram[8:8 + length]
 
 
 a = argparse.ArgumentParser()

@@ -28,20 +28,9 @@ import tempfile
 import threading
 import time
 
-from targets_common import fail, free_udp_ports, stop
+from targets_common import fail, frame, free_udp_ports, parse, stop
 
 ID_SAMPLE, ID_VALVE_COMMAND, ID_VALVE_FEEDBACK = 0x190, 0x220, 0x1A0
-
-
-def frame(can_id, data):
-    return struct.pack("<IB3x8s", can_id, len(data), bytes(data).ljust(8, b"\0"))
-
-
-def parse(datagram):
-    if len(datagram) != 16:
-        return None, b""
-    can_id, length = struct.unpack_from("<IB", datagram)
-    return can_id, datagram[8:8 + length]
 
 
 class Plant:
