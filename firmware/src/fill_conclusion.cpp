@@ -40,19 +40,29 @@ void Indicator::judge_result() {
   report_result();  // topup: over the target, or topup_max reached
 }
 
-void Indicator::report_hold() {
-  follow_up_.hold();
-  dose_command_pending_ = false;
-  console_.write("HOLD target=");
+// `<tag> target= final= error=`: how RESULT and HOLD lines begin.
+void Indicator::write_fill_line_start(const char* tag) {
+  console_.write(tag);
+  console_.write(" target=");
   console_.write_int(concluding_.target_g);
   console_.write(" final=");
   console_.write_int(concluding_.final_g);
   console_.write(" error=");
   console_.write_int(concluding_.final_g - concluding_.target_g);
+}
+
+void Indicator::write_verdict_fields() {
   console_.write(" tolerance=");
   console_.write(tolerance_verdict_name(verdict_));
   console_.write(" topups=");
   console_.write_int(follow_up_.topups());
+}
+
+void Indicator::report_hold() {
+  follow_up_.hold();
+  dose_command_pending_ = false;
+  write_fill_line_start("HOLD");
+  write_verdict_fields();
   console_.put('\n');
   ok();
 }
@@ -70,23 +80,14 @@ void Indicator::report_result() {
   const bool logged = !logbook_ || logbook_->append(record);
   if (logged) last_sequence_ = logbook_ ? record.sequence : last_sequence_ + 1;
   totals_.total_g += float(concluding_.final_g);
-  const DoseResult& r = concluding_;
-  console_.write("RESULT target=");
-  console_.write_int(r.target_g);
-  console_.write(" final=");
-  console_.write_int(r.final_g);
-  console_.write(" error=");
-  console_.write_int(r.final_g - r.target_g);
+  write_fill_line_start("RESULT");
   console_.write(" time=");
-  console_.write_int(r.time_ms);
+  console_.write_int(concluding_.time_ms);
   console_.write(" cutoff=");
-  console_.write_int(r.cutoff_jiffy);
+  console_.write_int(concluding_.cutoff_jiffy);
   console_.write(" strategy=");
-  console_.write(strategy_name(r.strategy));
-  console_.write(" tolerance=");
-  console_.write(tolerance_verdict_name(verdict_));
-  console_.write(" topups=");
-  console_.write_int(record.topups);
+  console_.write(strategy_name(concluding_.strategy));
+  write_verdict_fields();
   console_.write(" seq=");
   console_.write_int(logged ? last_sequence_ : 0);
   console_.put('\n');

@@ -120,6 +120,8 @@ class Indicator {
   void judge_result();
   void report_result();
   void report_hold();
+  void write_fill_line_start(const char* tag);
+  void write_verdict_fields();
   ValveCommand advance_test_cycle();
   void continue_print();
   void continue_log_print();
