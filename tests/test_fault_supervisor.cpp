@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "dynweigh/firmware/fault_supervisor.hpp"
 
@@ -309,6 +310,106 @@ TEST(FaultSupervisor, AStepAsLargeAsTheInstallationsOwnLandingIsNoSampleJump) {
   }
   for (int i = 0; i < 3; ++i) s.screen_sample(9000.0f + 40000.0f, 1.0f, true, f);
   EXPECT_EQ(f, Fault::sample_jump);
+}
+
+// The link's limits are in milliseconds: a jiffy without a sample counts its jiffy_ms.
+LoadCellInput no_sample(LinkStatus link) {
+  LoadCellInput in;
+  in.fresh = false;
+  in.link = link;
+  return in;
+}
+
+float stale_after_ms(FaultSupervisor& s, LinkStatus link, Fault& found) {
+  const float jiffy_ms = Parameters{}.get(ParameterId::jiffy_ms);
+  found = Fault::none;
+  std::uint32_t jiffies = 0;
+  while (found == Fault::none && jiffies < 1000) {
+    found = s.watch_sample(no_sample(link), true, 0.0f);
+    ++jiffies;
+  }
+  return float(jiffies) * jiffy_ms;
+}
+
+TEST(FaultSupervisor, NoSampleForTheStaleLimitInMillisecondsIsStale) {
+  FaultSupervisor s = configured();
+  const float jiffy_ms = Parameters{}.get(ParameterId::jiffy_ms);
+  Fault found = Fault::none;
+  const float after_ms = stale_after_ms(s, LinkStatus::ok, found);
+  EXPECT_EQ(found, Fault::stale_sample);
+  EXPECT_GE(after_ms, kStaleSampleLimitMs);
+  EXPECT_LT(after_ms - jiffy_ms, kStaleSampleLimitMs);
+  EXPECT_TRUE(s.sample_stale());
+  EXPECT_FALSE(s.sample_current());
+  // One sample and the count starts again.
+  LoadCellInput fresh;
+  EXPECT_EQ(s.watch_sample(fresh, true, 0.0f), Fault::none);
+  EXPECT_TRUE(s.sample_current());
+  EXPECT_FALSE(s.sample_stale());
+}
+
+TEST(FaultSupervisor, ABusSilentForTheWholeStaleLimitIsCanSilence) {
+  FaultSupervisor s = configured();
+  const float jiffy_ms = Parameters{}.get(ParameterId::jiffy_ms);
+  Fault found = Fault::none;
+  const float after_ms = stale_after_ms(s, LinkStatus::silent, found);
+  EXPECT_EQ(found, Fault::can_silence);
+  EXPECT_GE(after_ms, kStaleSampleLimitMs);
+  EXPECT_LT(after_ms - jiffy_ms, kStaleSampleLimitMs);
+}
+
+TEST(FaultSupervisor, ABusHeardDuringTheStaleWindowMakesItAStaleSample) {
+  FaultSupervisor s = configured();
+  EXPECT_EQ(s.watch_sample(no_sample(LinkStatus::ok), true, 0.0f), Fault::none);  // heard, no sample
+  Fault found = Fault::none;
+  stale_after_ms(s, LinkStatus::silent, found);
+  EXPECT_EQ(found, Fault::stale_sample);
+}
+
+TEST(FaultSupervisor, ClearfaultStartsTheStaleCountAgain) {
+  FaultSupervisor s = configured();
+  Fault found = Fault::none;
+  stale_after_ms(s, LinkStatus::ok, found);
+  s.clear();
+  EXPECT_TRUE(s.sample_current());
+  const float after_ms = stale_after_ms(s, LinkStatus::ok, found);
+  EXPECT_GE(after_ms, kStaleSampleLimitMs);
+}
+
+TEST(FaultSupervisor, BusOffAndTheLoadCellsStatusBitsAreFaultsAtOnce) {
+  FaultSupervisor s = configured();
+  LoadCellInput in;
+  in.link = LinkStatus::bus_off;
+  EXPECT_EQ(s.watch_sample(in, true, 0.0f), Fault::bus_off);
+  EXPECT_EQ(s.watch_sample(no_sample(LinkStatus::bus_off), true, 0.0f), Fault::bus_off);
+  const std::pair<std::uint8_t, Fault> bits[] = {{kLoadCellAdcError, Fault::adc_error},
+                                                 {kLoadCellOverload, Fault::overload},
+                                                 {kLoadCellUnderload, Fault::underload}};
+  for (const auto& [bit, fault] : bits) {
+    LoadCellInput sample;
+    sample.status = bit;
+    EXPECT_EQ(s.watch_sample(sample, true, 0.0f), fault);
+    EXPECT_EQ(FaultSupervisor::sample_fault(sample), fault);
+  }
+}
+
+TEST(FaultSupervisor, AGrossWeightAboveMaxByTheMarginIsOverload) {
+  FaultSupervisor s = configured();
+  const float max_g = Parameters{}.get(ParameterId::capacity_g);
+  const LoadCellInput sample;
+  EXPECT_EQ(s.watch_sample(sample, true, max_g + FaultSupervisor::kOverloadMarginG), Fault::none);
+  EXPECT_EQ(s.watch_sample(sample, true, max_g + FaultSupervisor::kOverloadMarginG + 1.0f), Fault::overload);
+  EXPECT_EQ(s.watch_sample(sample, false, max_g + FaultSupervisor::kOverloadMarginG + 1.0f), Fault::none)
+      << "an uncalibrated scale weighs nothing";
+}
+
+TEST(FaultSupervisor, AScreenedJumpDuringADoseIsReportedWithItsSample) {
+  FaultSupervisor s = configured();
+  const LoadCellInput sample;
+  s.screen_sample(8000.0f, 1.0f, true);
+  for (int i = 0; i < 3; ++i) s.screen_sample(20000.0f, 1.0f, true);
+  EXPECT_EQ(s.watch_sample(sample, true, 0.0f), Fault::sample_jump);
+  EXPECT_EQ(s.watch_sample(no_sample(LinkStatus::ok), true, 0.0f), Fault::none) << "no sample, no screen";
 }
 
 }  // namespace

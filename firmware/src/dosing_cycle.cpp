@@ -21,6 +21,7 @@ constexpr float kLandingMarginS = 0.03f;
 void DosingCycle::configure(const Parameters& p) {
   model_.configure(p);
   jiffy_s_ = p.get(ParameterId::jiffy_ms) / 1000.0f;
+  blind_horizon_jiffies_ = std::uint32_t(std::ceil(kStaleSampleLimitMs / p.get(ParameterId::jiffy_ms)));
   preact_g_ = p.get(ParameterId::preact_g);
   two_stage_.configure(p);
   pac_.configure(p);
@@ -175,7 +176,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     // declares the sensor stale, close now: an early close underfills, a blind one overdoses.
     ++blind_jiffies_;
     const float growth = model_.growth_per_jiffy_g();
-    if (last_prediction_g_ + growth * float(blind_jiffies_ + kBlindHorizonJiffies) >= float(result_.target_g)) {
+    if (last_prediction_g_ + growth * float(blind_jiffies_ + blind_horizon_jiffies_) >= float(result_.target_g)) {
       close_valve(model_.settle_delay_s());
     }
     return Outcome::running;

@@ -32,6 +32,7 @@ void FaultSupervisor::configure(const Parameters& p) {
   const float dead_ms = p.get(ParameterId::valve_dead_ms);
   const float stroke_ms = p.get(ParameterId::valve_stroke_ms);
   const float fall_ms = 1000.0f * std::sqrt(2.0f * p.get(ParameterId::fall_mm) / 1000.0f / kGravity);
+  stale_limit_jiffies_ = jiffies_for(kStaleSampleLimitMs, jiffy_ms);
   capacity_g_ = p.get(ParameterId::capacity_g);
   outlier_bound_g_ = std::fmax(kOutlierFractionOfCapacity * capacity_g_, landing_step_g(p));
   stable_band_g_ = p.get(ParameterId::stable_band_g);
@@ -65,6 +66,37 @@ void FaultSupervisor::reset() {
   identical_samples_ = 0;
   history_count_ = 0;
   history_head_ = 0;
+}
+
+Fault FaultSupervisor::sample_fault(const LoadCellInput& sample) {
+  if (sample.link == LinkStatus::bus_off) return Fault::bus_off;
+  if (sample.status & kLoadCellAdcError) return Fault::adc_error;
+  if (sample.status & kLoadCellOverload) return Fault::overload;
+  if (sample.status & kLoadCellUnderload) return Fault::underload;
+  return Fault::none;
+}
+
+Fault FaultSupervisor::watch_link(const LoadCellInput& sample) {
+  const Fault bus = sample.link == LinkStatus::bus_off ? Fault::bus_off : Fault::none;
+  if (sample.fresh) {
+    stale_jiffies_ = 0;
+    silent_jiffies_ = 0;
+    return bus;
+  }
+  // A whole stale window in which the board heard nothing at all is the bus, not the load cell.
+  silent_jiffies_ = sample.link == LinkStatus::silent ? silent_jiffies_ + 1 : 0;
+  if (++stale_jiffies_ < stale_limit_jiffies_ || bus != Fault::none) return bus;
+  return silent_jiffies_ >= stale_limit_jiffies_ ? Fault::can_silence : Fault::stale_sample;
+}
+
+Fault FaultSupervisor::watch_sample(const LoadCellInput& sample, bool weighed, float gross_g) {
+  const Fault link = watch_link(sample);
+  if (link != Fault::none || !sample.fresh) return link;
+  const Fault own = sample_fault(sample);
+  if (own != Fault::none) return own;
+  if (screen_fault_ != Fault::none) return screen_fault_;
+  if (weighed && gross_g > capacity_g_ + kOverloadMarginG) return Fault::overload;
+  return Fault::none;
 }
 
 float FaultSupervisor::screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault) {

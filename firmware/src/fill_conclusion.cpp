@@ -2,7 +2,7 @@
 // line and a logbook record), topped up, or held for the operator's `accept` or `topup`.
 #include <cmath>
 
-#include "dynweigh/firmware/indicator.hpp"
+#include "console_commands.hpp"
 
 namespace dynweigh::firmware {
 
@@ -94,25 +94,27 @@ void Indicator::report_result() {
   if (!logged) {
     // A result the alibi memory could not keep is no certified fill: a fault, not an OK.
     raise(Fault::nvm_error);
-    return error(4, "fault nvm_error");
+    return console_.error(4, "fault nvm_error");
   }
   ok();
 }
 
-void Indicator::command_accept(const Arguments& args) {
-  if (args.count != 1) return error(2, "usage: accept");
-  if (follow_up_.phase() != ToleranceFollowUp::Phase::holding) return error(2, "no result held");
-  report_result();
+void ConsoleCommands::accept(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count != 1) return console.error(2, "usage: accept");
+  if (indicator.follow_up_.phase() != ToleranceFollowUp::Phase::holding) return console.error(2, "no result held");
+  indicator.report_result();
 }
 
-void Indicator::command_topup(const Arguments& args) {
-  if (args.count != 1) return error(2, "usage: topup");
-  if (follow_up_.phase() != ToleranceFollowUp::Phase::holding) return error(2, "no result held");
-  if (fault_ != Fault::none) return error(4, "fault active");
-  if (concluding_.final_g >= concluding_.target_g) return error(2, "not under the target");
-  if (!follow_up_.may_top_up()) return error(2, "topup_max reached");
-  follow_up_.start_top_up();
-  dose_command_pending_ = true;  // answers like the dose: RESULT, or HOLD again
+void ConsoleCommands::topup(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count != 1) return console.error(2, "usage: topup");
+  if (indicator.follow_up_.phase() != ToleranceFollowUp::Phase::holding) return console.error(2, "no result held");
+  if (indicator.fault_ != Fault::none) return console.error(4, "fault active");
+  if (indicator.concluding_.final_g >= indicator.concluding_.target_g) return console.error(2, "not under the target");
+  if (!indicator.follow_up_.may_top_up()) return console.error(2, "topup_max reached");
+  indicator.follow_up_.start_top_up();
+  indicator.dose_command_pending_ = true;  // answers like the dose: RESULT, or HOLD again
 }
 
 }  // namespace dynweigh::firmware

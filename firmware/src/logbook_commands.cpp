@@ -3,8 +3,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "console_commands.hpp"
 #include "dynweigh/firmware/fill_statistics.hpp"
-#include "dynweigh/firmware/indicator.hpp"
 
 namespace dynweigh::firmware {
 namespace {
@@ -23,7 +23,7 @@ bool parse_sequence(const char* text, std::uint32_t& value) {
 }
 
 // Grams from tenths: whole grams as integers, as RESULT prints them.
-void write_grams(TextWriter& out, std::int32_t tenths) {
+void write_grams(Console& out, std::int32_t tenths) {
   if (tenths % 10 == 0) {
     out.write_int(tenths / 10);
   } else {
@@ -33,26 +33,27 @@ void write_grams(TextWriter& out, std::int32_t tenths) {
 
 }  // namespace
 
-void Indicator::command_log(const Arguments& args) {
-  if (args.count > 3) return error(2, "usage: log [<n>] | log <from> <to>");
-  if (!logbook_ || !logbook_->usable()) return error(2, "no logbook");
-  if (reject_if_busy()) return;
-  const std::uint32_t first = logbook_->first_sequence(), last = logbook_->last_sequence();
+void ConsoleCommands::log(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count > 3) return console.error(2, "usage: log [<n>] | log <from> <to>");
+  if (!indicator.logbook_ || !indicator.logbook_->usable()) return console.error(2, "no logbook");
+  if (indicator.reject_if_busy()) return;
+  const std::uint32_t first = indicator.logbook_->first_sequence(), last = indicator.logbook_->last_sequence();
   std::uint32_t from = 0, to = 0;
   if (args.count == 3) {
     if (!parse_sequence(args.word[1], from) || !parse_sequence(args.word[2], to) || from > to) {
-      return error(2, "need <from> <= <to>");
+      return console.error(2, "need <from> <= <to>");
     }
   } else {
     std::uint32_t n = kDefaultLogLines;
-    if (args.count == 2 && (!parse_sequence(args.word[1], n) || n == 0)) return error(2, "usage: log [<n>]");
+    if (args.count == 2 && (!parse_sequence(args.word[1], n) || n == 0)) return console.error(2, "usage: log [<n>]");
     to = last;
     from = last >= n ? last - n + 1 : 1;
   }
   if (from < first) from = first;
   if (to > last) to = last;
-  if (last == 0 || from > to) return ok();  // nothing kept in that range
-  log_print_ = LogPrint{true, from, to};
+  if (last == 0 || from > to) return indicator.ok();  // nothing kept in that range
+  indicator.log_print_ = Indicator::LogPrint{true, from, to};
 }
 
 void Indicator::continue_log_print() {
@@ -92,40 +93,41 @@ namespace dynweigh::firmware {
 
 // `stats [<material>]` and `stats reset`: the material's last fills from the logbook, and the
 // totalizers. One material (0) until the material table exists.
-void Indicator::command_stats(const Arguments& args) {
+void ConsoleCommands::stats(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
   constexpr std::uint32_t kLastFills = 100;
   if (args.count == 2 && std::strcmp(args.word[1], "reset") == 0) {
-    totals_ = Totalizers{};
-    totals_.after_sequence = logbook_ ? logbook_->last_sequence() : 0;
-    return ok();
+    indicator.totals_ = Totalizers{};
+    indicator.totals_.after_sequence = indicator.logbook_ ? indicator.logbook_->last_sequence() : 0;
+    return indicator.ok();
   }
   if (args.count > 2 || (args.count == 2 && std::strcmp(args.word[1], "0") != 0)) {
-    return error(2, "usage: stats [0] | stats reset");
+    return console.error(2, "usage: stats [0] | stats reset");
   }
-  const FillStatistics s = logbook_ ? fill_statistics(*logbook_, 0, totals_.after_sequence, kLastFills)
+  const FillStatistics s = indicator.logbook_ ? fill_statistics(*indicator.logbook_, 0, indicator.totals_.after_sequence, kLastFills)
                                     : FillStatistics{};
-  console_.write("STATS material=0 count=");
-  console_.write_int(s.count);
-  console_.write(" mean_g=");
-  console_.write_decimal(s.mean_g, 2);
-  console_.write(" sd_g=");
-  console_.write_decimal(s.sd_g, 2);
-  console_.write(" min_g=");
-  console_.write_decimal(s.min_g, 1);
-  console_.write(" max_g=");
-  console_.write_decimal(s.max_g, 1);
-  console_.write(" class=");
-  console_.write_decimal(s.class_x, 1);
-  console_.write(" total_kg=");
-  console_.write_decimal(totals_.total_g / 1000.0f, 3);
-  console_.write(" valve_cycles=");
-  console_.write_int(totals_.valve_cycles);
-  console_.write(" gate_cycles=");
-  console_.write_int(totals_.gate_cycles);
-  console_.write(" dosing_s=");
-  console_.write_decimal(float(totals_.dosing_jiffies) * settings_.parameters.get(ParameterId::jiffy_ms) / 1000.0f, 2);
-  console_.put('\n');
-  ok();
+  console.write("STATS material=0 count=");
+  console.write_int(s.count);
+  console.write(" mean_g=");
+  console.write_decimal(s.mean_g, 2);
+  console.write(" sd_g=");
+  console.write_decimal(s.sd_g, 2);
+  console.write(" min_g=");
+  console.write_decimal(s.min_g, 1);
+  console.write(" max_g=");
+  console.write_decimal(s.max_g, 1);
+  console.write(" class=");
+  console.write_decimal(s.class_x, 1);
+  console.write(" total_kg=");
+  console.write_decimal(indicator.totals_.total_g / 1000.0f, 3);
+  console.write(" valve_cycles=");
+  console.write_int(indicator.totals_.valve_cycles);
+  console.write(" gate_cycles=");
+  console.write_int(indicator.totals_.gate_cycles);
+  console.write(" dosing_s=");
+  console.write_decimal(float(indicator.totals_.dosing_jiffies) * indicator.settings_.parameters.get(ParameterId::jiffy_ms) / 1000.0f, 2);
+  console.put('\n');
+  indicator.ok();
 }
 
 }  // namespace dynweigh::firmware

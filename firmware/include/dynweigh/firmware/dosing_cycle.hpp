@@ -8,6 +8,7 @@
 
 #include "dynweigh/firmware/baseline_learning.hpp"
 #include "dynweigh/firmware/dosing_strategy.hpp"
+#include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/flow_preact_cutoff.hpp"
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/learning_table.hpp"
@@ -48,8 +49,6 @@ class DosingCycle {
   // One jiffy with the unfiltered and the filtered net weight (grams); `fresh` is false when the
   // jiffy brought no sample (the weights are the last ones held).
   Outcome step(float net_weight_g, float filtered_weight_g, bool fresh = true);
-  // The supervisor's stale-sample limit: a dose blind for this long ends in a fault anyway.
-  static constexpr std::uint32_t kBlindHorizonJiffies = 10;
   void abort() { phase_ = Phase::idle; valve_ = ValveCommand::closed; }
 
   Phase phase() const { return phase_; }
@@ -123,6 +122,7 @@ class DosingCycle {
   float recent_estimates_[kAgreementJiffies] = {};
   std::uint32_t estimates_ = 0;
   std::uint32_t blind_jiffies_ = 0;
+  std::uint32_t blind_horizon_jiffies_ = 10;  // the stale-sample limit: blind this long, a dose faults
 };
 
 }  // namespace dynweigh::firmware

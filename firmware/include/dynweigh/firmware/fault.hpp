@@ -3,13 +3,17 @@
 
 namespace dynweigh::firmware {
 
+// A load cell samples every jiffy: this long without one, its reading is stale (a dose blind for
+// this long ends in a fault, so the dosing cycle closes before it would be).
+inline constexpr float kStaleSampleLimitMs = 100.0f;
+
 // Why the indicator stopped. Latched until `clearfault`; the valve stays closed meanwhile.
 enum class Fault : std::uint8_t {
   none = 0,
   overload,       // load cell reports overload, or the weight is above the scale's maximum
   underload,      // load cell reports underload
   adc_error,      // load cell reports a converter error
-  stale_sample,   // no load-cell sample for 100 ms
+  stale_sample,   // no load-cell sample for kStaleSampleLimitMs
   dose_timeout,   // a dose did not reach its target within dose_timeout_s
   never_stable,   // after the close the weight never settled
   // The fault supervisor's (fault_supervisor.hpp):

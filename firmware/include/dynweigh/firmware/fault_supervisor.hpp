@@ -1,7 +1,11 @@
 #pragma once
-// Watches the load cell, the valve and the flow once per jiffy and names what broke.
+// Watches the link, the load cell, the valve and the flow once per jiffy and names what broke.
 // The Indicator raises what it reports: the valve closes in the same jiffy, the fault latches.
 //
+// - The link and the load cell's own word: `bus_off` as the board reports it; no sample for
+//   kStaleSampleLimitMs (fault.hpp) is `stale_sample`, or `can_silence` when the board heard nothing
+//   at all on the bus for as long; a sample's status bits are `adc_error`, `overload`, `underload`;
+//   a calibrated gross weight more than kOverloadMarginG above Max is `overload` too.
 // - Outliers: a sample further than kOutlierFractionOfCapacity x Max from the last good one moved
 //   faster than anything on the scale can: the largest physical step is the stream's impact
 //   (about 1.2 kg for the 60 mm bore falling 1.2 m, 2.4 kg/s x 4.9 m/s) and the 12 Hz platform
@@ -74,15 +78,35 @@ class FaultSupervisor {
   static constexpr float kEarlyLeakWindowMs = 250.0f;
   static constexpr float kFlowAfterCloseRiseFractionOfCapacity = 0.002f;  // 100 g on 50 kg; settling rings +-30 g
   static constexpr float kFlowAfterCloseRiseStableBands = 50.0f;
+  static constexpr float kOverloadMarginG = 9.0f;  // 9 d above Max, as OIML R76 blanks
 
   // Limits from the installation's parameters (capacity, jiffy, valve timing, fall height).
   void configure(const Parameters& parameters);
-  // Forget all history (after `clearfault`, a restart).
+  // Forget all history of valve, flow and outliers (a new zero, and `clearfault`).
   void reset();
+  // `clearfault`: reset(), and the stale sample's count starts again.
+  void clear() {
+    stale_jiffies_ = 0;
+    reset();
+  }
+
+  // The jiffy's sample, after the scale took it (screen_sample, the filter): its link, its status
+  // bits, its screen and, where the scale is calibrated (`weighed`), the gross weight it shows.
+  // Fault::none, or the first thing found wrong.
+  Fault watch_sample(const LoadCellInput& sample, bool weighed, float gross_g);
+  // What a fresh sample says of itself (bus-off, its status bits), counting nothing.
+  static Fault sample_fault(const LoadCellInput& sample);
+  // Every jiffy since the last fresh sample brought one (or `clearfault` was given since).
+  bool sample_current() const { return stale_jiffies_ == 0; }
+  // No sample for the stale limit: the reading shows nothing.
+  bool sample_stale() const { return stale_jiffies_ >= stale_limit_jiffies_; }
 
   // The outlier screen: the counts to use this jiffy (the sample, or the last good one held).
   // `strict` while a dose runs; `fault` is set to sample_jump when the rejections persist.
   float screen_sample(float raw_counts, float counts_per_gram, bool strict, Fault& fault);
+  float screen_sample(float raw_counts, float counts_per_gram, bool strict) {
+    return screen_sample(raw_counts, counts_per_gram, strict, screen_fault_);
+  }
   std::uint32_t rejected_samples() const { return rejected_total_; }
   // What the valve's feedback has shown of its timing (the model cutoff times its close with it).
   const ValveTimingMonitor& valve_timing() const { return timing_; }
@@ -108,6 +132,7 @@ class FaultSupervisor {
 
  private:
   static float landing_step_g(const Parameters& p);
+  Fault watch_link(const LoadCellInput& sample);
   Fault watch_valve(const Observation& o);
   void follow_dose_opening(const Observation& o);
   void set_valve_limits(ValveCommand command, float delay_ms);
@@ -133,7 +158,13 @@ class FaultSupervisor {
   std::uint32_t early_leak_jiffies_ = 71;
   std::uint32_t early_leak_window_jiffies_ = 20;
 
+  // Link.
+  std::uint32_t stale_limit_jiffies_ = 10;
+  std::uint32_t stale_jiffies_ = 0;   // jiffies without a sample
+  std::uint32_t silent_jiffies_ = 0;  // of those, jiffies the link reported silent
+
   // Outlier screen.
+  Fault screen_fault_ = Fault::none;  // the last screen's
   bool has_good_ = false;
   float good_counts_ = 0.0f;
   float last_rejected_counts_ = 0.0f;

@@ -1,0 +1,94 @@
+// The dose on the console: `dose`, the manual `valve`, `abort`, and what the last model dose
+// measured (`estimates`). `accept` and `topup`, on a held result: fill_conclusion.cpp.
+#include "console_commands.hpp"
+
+namespace dynweigh::firmware {
+
+void ConsoleCommands::dose(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  const Parameters& p = indicator.settings_.parameters;
+  long target = 0;
+  DosingStrategy strategy = DosingStrategy::model;
+  if (args.count < 2 || args.count > 3) return console.error(2, "usage: dose <grams> [<strategy>]");
+  if (!parse_int(args.word[1], 1, long(p.get(ParameterId::capacity_g)), target)) {
+    return console.error(2, "target out of range");
+  }
+  if (args.count == 3 && !parse_strategy(args.word[2], strategy)) return console.error(2, "unknown strategy");
+  if (!strategy_available(strategy)) return console.error(2, "strategy not in this build");
+  if (indicator.reject_if_busy()) return;
+  // A dose owns the valve and ends with it closed; started over a manually opened valve, the
+  // manual command would open it again after the result (found by fuzz/console_fuzzer.cpp).
+  if (indicator.manual_valve_ != ValveCommand::closed) return console.error(3, "valve open (valve 0 first)");
+  if (indicator.fault_ != Fault::none) return console.error(4, "fault active");
+  if (!indicator.settings_.calibration.valid()) return console.error(5, "not calibrated");
+  if (indicator.scale_.filtered_gross_g(indicator.settings_.calibration) + float(target) > p.get(ParameterId::capacity_g)) {
+    return console.error(2, "target exceeds the scale's capacity");
+  }
+  indicator.dosing_.restore_baselines(indicator.settings_.baselines);
+  indicator.dosing_.start(std::int32_t(target), strategy, &indicator.settings_.learning);
+  indicator.dose_command_pending_ = true;
+  indicator.recorder_.start();
+  indicator.recording_source_ = Indicator::RecordingSource{true, ++indicator.doses_started_, std::int32_t(target), strategy};
+}
+
+void ConsoleCommands::valve(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  long position = 0;
+  if (args.count != 2 || !parse_int(args.word[1], 0, 2, position)) return console.error(2, "usage: valve <0|1|2>");
+  if (indicator.reject_if_busy()) return;
+  if (indicator.fault_ != Fault::none && position != 0) return console.error(4, "fault active");
+  indicator.manual_valve_ = static_cast<ValveCommand>(position);
+  indicator.ok();
+}
+
+// The running command that abort cuts short answers ERR 3 aborted, before abort's own OK.
+void ConsoleCommands::abort(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count != 1) return console.error(2, "usage: abort");
+  if (indicator.dose_running()) indicator.dosing_.abort();
+  indicator.follow_up_.finish();  // a held or topping-up result is dropped, unlogged
+  if (indicator.dose_command_pending_ || indicator.scale_.adjusting()) {
+    indicator.dose_command_pending_ = false;
+    indicator.scale_.cancel_adjustment();
+    console.error(3, "aborted");
+  }
+  indicator.test_.active = false;
+  indicator.test_.scheduled = false;
+  indicator.manual_valve_ = ValveCommand::closed;
+  indicator.ok();
+}
+
+namespace {
+void write_estimate(Console& out, const char* key, bool known, float value, int decimals) {
+  out.put(' ');
+  out.write(key);
+  out.put('=');
+  if (known) {
+    out.write_decimal(value, decimals);
+  } else {
+    out.write("none");
+  }
+}
+}  // namespace
+
+void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count != 1) return console.error(2, "usage: estimates");
+  const DoseEstimates<float>& e = indicator.dosing_.model_estimates();
+  if (!e.impact_timed && !e.measured) return console.error(2, "no model dose measured yet");
+  const auto& s = e.signature;
+  console.write("ESTIMATES");
+  write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
+  write_estimate(console, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
+  write_estimate(console, "dead_used_ms", true, 1000.0f * indicator.dosing_.model_dead_time_s(), 1);
+  write_estimate(console, "stroke_used_ms", true, 1000.0f * indicator.dosing_.model_stroke_s(), 1);
+  write_estimate(console, "flow_kg_s", e.measured, e.flow_kg_s, 3);
+  write_estimate(console, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
+  write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
+  write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
+  write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+  console.put('\n');
+  indicator.ok();
+}
+
+}  // namespace dynweigh::firmware
