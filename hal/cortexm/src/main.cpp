@@ -6,7 +6,8 @@
 // board's `kLinkSilenceTicks` pass without a sample, for jiffies without one.
 //
 // Per-jiffy instruction budget: Indicator::step runs between dw_step_begin() and one of
-// dw_step_end_idle() / dw_step_end_active(); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
+// dw_step_end_idle() / dw_step_end_active(), which run_one_jiffy calls through the node's StepProbe
+// (StepMarks below); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
 // counts the instructions between them.
 #include <cstdint>
 
