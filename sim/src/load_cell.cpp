@@ -38,10 +38,10 @@ LoadCellSample LoadCell::convert(double force_n, double time_s) {
   const double bottom = parameters_.zero_counts - 0.02 * parameters_.counts_per_kg * parameters_.capacity_kg;
   if (counts > top) {
     counts = top;
-    sample.status |= kStatusOverload;
+    sample.status |= schema::kLoadCellOverload;
   } else if (counts < bottom) {
     counts = bottom;
-    sample.status |= kStatusUnderload;
+    sample.status |= schema::kLoadCellUnderload;
   }
   sample.raw_counts = static_cast<std::int32_t>(std::lround(counts));
   return sample;

@@ -24,11 +24,11 @@ void PneumaticValve::command(ValveCommand target, double issued_s) {
   start_due_commands();
 }
 
-ValveFeedback PneumaticValve::feedback() const {
-  if (stroke_ != target_) return ValveFeedback::moving;
-  if (stroke_ <= 0.0) return ValveFeedback::closed;
-  if (stroke_ >= 1.0) return ValveFeedback::open;
-  return ValveFeedback::half;
+ValvePosition PneumaticValve::feedback() const {
+  if (stroke_ != target_) return ValvePosition::moving;
+  if (stroke_ <= 0.0) return ValvePosition::closed;
+  if (stroke_ >= 1.0) return ValvePosition::open;
+  return ValvePosition::half;
 }
 
 double PneumaticValve::next_breakpoint_s(double limit_s) const {

@@ -151,7 +151,7 @@ TEST(CanLinkFaultMatrix, SilenceAndBusOffTimesEveryStrategy) {
       EXPECT_NE(status.find(std::string("fault=") + firmware::fault_name(c.expected)), std::string::npos) << status;
       rig.idle(150);  // the valve module's watchdog closed the valve; what was falling lands
       EXPECT_EQ(rig.indicator().fault(), c.expected);  // latched
-      EXPECT_EQ(rig.plant().valve_feedback(), sim::ValveFeedback::closed);
+      EXPECT_EQ(rig.plant().valve_feedback(), sim::ValvePosition::closed);
       EXPECT_LT(fill_g(rig), kTargetG) << "nothing may be overdosed";
       EXPECT_GE(rig.watchdog_closes(), 1u);
       if (std::string(strategy) != "model") continue;

@@ -1,19 +1,20 @@
 // The Cortex-M4F image: the same firmware library as the host, on a board with a console UART and a
-// plant link carrying the CAN frames of docs/can-protocol.md as SLCAN lines. One jiffy per 0x190 sample (the
-// load-cell module paces the loop, lockstep or real time alike); SysTick counts 10 ms for the
-// heartbeat and, once the board's `kLinkSilenceTicks` pass without a sample, for jiffies without
-// one. Samples are put in order by their counter (hal/can/sample_sequence.hpp), as on Linux: a
-// duplicate runs no jiffy, a late one is discarded, a lost one is a jiffy without a sample.
+// plant link carrying the CAN frames of docs/can-protocol.md as SLCAN lines. The indicator is the
+// portable CAN node (hal/can/indicator_node.hpp), as on Linux: one jiffy per 0x190 sample (the
+// load-cell module paces the loop, lockstep or real time alike), samples in order by their counter.
+// This file is its adapter: the UARTs, and SysTick counting 10 ms for the heartbeat and, once the
+// board's `kLinkSilenceTicks` pass without a sample, for jiffies without one.
 //
 // Per-jiffy instruction budget: Indicator::step runs between dw_step_begin() and one of
-// dw_step_end_idle() / dw_step_end_active(); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
+// dw_step_end_idle() / dw_step_end_active(), which run_one_jiffy calls through the node's StepProbe
+// (StepMarks below); a QEMU plugin (tests/targets/qemu_insn_plugin.cpp)
 // counts the instructions between them.
 #include <cstdint>
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/firmware/ram_nvm.hpp"
+#include "dynweigh/hal/can/indicator_node.hpp"
 #include "dynweigh/hal/can/protocol.hpp"
-#include "dynweigh/hal/can/sample_sequence.hpp"
 #include "dynweigh/hal/can/slcan.hpp"
 #include "dynweigh/hal/cortexm/board_mps2_an386.hpp"
 #include "dynweigh/hal/cortexm/cmsdk_uart.hpp"
@@ -21,6 +22,7 @@
 using Board = dynweigh::hal::cortexm::BoardMps2An386;
 
 namespace fw = dynweigh::firmware;
+namespace hal = dynweigh::hal;
 namespace can = dynweigh::hal::can;
 using dynweigh::hal::cortexm::ByteRing;
 using dynweigh::hal::cortexm::CmsdkUart;
@@ -55,89 +57,67 @@ void push_console(char c) {
   g_console_tx.push(c);
 }
 
-void send_frame(const can::CanFrame& frame) {
-  char line[can::kSlcanMaxLine];
-  const std::size_t n = can::slcan_encode(frame, line, sizeof line);
-  if (g_plant_tx.free_space() < n) return;  // the link is saturated: drop whole frames only
-  for (std::size_t i = 0; i < n; ++i) g_plant_tx.push(line[i]);
-}
-
-struct JiffyState {
-  std::uint32_t jiffy = 0;
-  fw::ValvePosition valve_position = fw::ValvePosition::closed;
-  fw::LoadCellInput last_sample{0, 0, 0, false, fw::LinkStatus::ok};
-  bool plant_heard = false;        // a frame from the plant ever came: silence is watched from then
-  bool heard_since_jiffy = false;  // one came since the last jiffy
-  std::uint32_t last_sample_tick = 0;
-  std::uint32_t last_stand_in_tick = 0;
+// The console UART's rings as the indicator's console port.
+class UartConsole final : public hal::ConsolePort {
+ public:
+  std::size_t read(char* destination, std::size_t capacity) override {
+    std::size_t n = 0;
+    while (n < capacity && g_console_rx.pop(destination[n])) ++n;
+    return n;
+  }
+  void write(const char* data, std::size_t length) override {
+    for (std::size_t i = 0; i < length; ++i) push_console(data[i]);
+  }
+  // The console drains at the UART's pace: only what the ring can hold, each '\n' going out as
+  // CR LF (a terminal on a serial line needs the CR), so at most half of it, 128 bytes at a time.
+  std::size_t writable() const override {
+    const std::size_t room = g_console_tx.free_space() / 2;
+    return room < 128 ? room : 128;
+  }
 };
 
-// `answer`: send the 0x220/0x181 pair (not for a jiffy standing in for a lost sample).
-void run_jiffy(JiffyState& state, const fw::LoadCellInput& sample, bool answer = true) {
-  state.heard_since_jiffy = false;
-  char rx[128];
-  std::size_t rx_length = 0;
-  while (rx_length < sizeof rx && g_console_rx.pop(rx[rx_length])) ++rx_length;
-  fw::Inputs inputs;
-  inputs.jiffy = state.jiffy;
-  inputs.load_cell = sample;
-  inputs.valve_position = state.valve_position;
-  inputs.console_rx = rx;
-  inputs.console_rx_length = rx_length;
-
-  dw_step_begin();
-  const fw::Outputs out = g_indicator.step(inputs);
-  if (out.state == fw::IndicatorState::idle) {
-    dw_step_end_idle();
-  } else {
-    dw_step_end_active();
+// The plant UART's ring as the node's link: each frame one SLCAN line.
+class SlcanLink final : public can::CanLink {
+ public:
+  void send(const can::CanFrame& frame) override {
+    char line[can::kSlcanMaxLine];
+    const std::size_t n = can::slcan_encode(frame, line, sizeof line);
+    if (g_plant_tx.free_space() < n) return;  // the link is saturated: drop whole frames only
+    for (std::size_t i = 0; i < n; ++i) g_plant_tx.push(line[i]);
   }
+};
 
-  if (answer) {
-    send_frame(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(out.valve), out.valve_delay_100us,
-                                                    out.answered_counter}));
-    send_frame(can::encode(can::IndicatorStatusMessage{out.weight_100mg, static_cast<std::uint8_t>(out.state),
-                                                       static_cast<std::uint8_t>(out.valve), out.answered_counter}));
+// Indicator::step between the markers the instruction-counting plugin looks for.
+class StepMarks final : public hal::StepProbe {
+ public:
+  void before_step() override { dw_step_begin(); }
+  void after_step(const fw::Outputs& out) override {
+    if (out.state == fw::IndicatorState::idle) {
+      dw_step_end_idle();
+    } else {
+      dw_step_end_active();
+    }
   }
-  // The console drains at the UART's pace: take from the indicator only what the ring can hold,
-  // each '\n' going out as CR LF (a terminal on a serial line needs the CR), so at most half of it.
-  char tx[128];
-  for (std::size_t n; g_console_tx.free_space() >= 2 &&
-                      (n = g_indicator.drain_console(tx, g_console_tx.free_space() / 2 < sizeof tx
-                                                             ? g_console_tx.free_space() / 2
-                                                             : sizeof tx)) > 0;) {
-    for (std::size_t i = 0; i < n; ++i) push_console(tx[i]);
+};
+
+// The clock's side of link silence: once the plant has been heard, a jiffy per tick without a
+// sample after kLinkSilenceTicks without one.
+struct SilenceWatch {
+  can::IndicatorNode& node;
+  std::uint32_t last_sample_tick = 0;
+  std::uint32_t last_stand_in_tick = 0;
+
+  void heard(can::IndicatorNode::Heard what, bool first_frame) {
+    if (first_frame || what == can::IndicatorNode::Heard::sample) last_sample_tick = g_ticks;
   }
-  ++state.jiffy;
-}
-
-fw::LoadCellInput without_sample(const JiffyState& state, fw::LinkStatus link) {
-  fw::LoadCellInput stale = state.last_sample;
-  stale.fresh = false;
-  stale.link = link;
-  return stale;
-}
-
-void on_sample(JiffyState& state, can::SampleSequence& sequence, const can::LoadCellSampleMessage& m) {
-  const can::SampleSequence::Arrival arrival = sequence.arrive(m.counter);
-  if (!arrival.accept) return;  // the same sample again, or one the indicator is already past
-  for (std::uint16_t i = 0; i < arrival.missing; ++i) {
-    run_jiffy(state, without_sample(state, fw::LinkStatus::ok), /*answer=*/false);
+  void watch() {
+    const std::uint32_t now = g_ticks;
+    if (!node.plant_heard() || now - last_sample_tick < Board::kLinkSilenceTicks) return;
+    if (now == last_stand_in_tick) return;
+    last_stand_in_tick = now;
+    node.run_without_sample();
   }
-  state.last_sample = fw::LoadCellInput{m.raw_counts, m.counter, m.status, true, fw::LinkStatus::ok};
-  state.last_sample_tick = g_ticks;
-  run_jiffy(state, state.last_sample);
-}
-
-// A jiffy per tick without a sample once the link has been quiet for kLinkSilenceTicks.
-void watch_silence(JiffyState& state, can::SampleSequence& sequence) {
-  const std::uint32_t now = g_ticks;
-  if (!state.plant_heard || now - state.last_sample_tick < Board::kLinkSilenceTicks) return;
-  if (now == state.last_stand_in_tick) return;
-  state.last_stand_in_tick = now;
-  run_jiffy(state, without_sample(state, state.heard_since_jiffy ? fw::LinkStatus::ok : fw::LinkStatus::silent));
-  sequence.stood_in();
-}
+};
 
 }  // namespace
 
@@ -152,6 +132,10 @@ extern "C" int board_main() {
   // never returns, and no destructor is registered.
   fw::RamLogbook<Board::kRamLogbookSlots> logbook;
   g_indicator.attach_logbook(&logbook.logbook());
+  UartConsole console_port;
+  SlcanLink link;
+  StepMarks step_marks;
+  can::IndicatorNode node(g_indicator, console_port, link, can::IndicatorNodeOptions{nullptr, 0, &step_marks});
 
   const char* banner = "dynweigh " ;
   for (const char* p = banner; *p; ++p) g_console_tx.push(*p);
@@ -159,39 +143,24 @@ extern "C" int board_main() {
   for (const char* p = " on "; *p; ++p) g_console_tx.push(*p);
   for (const char* p = Board::kName; *p; ++p) g_console_tx.push(*p);
   push_console('\n');
-  send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtBootUp}));
+  node.send_heartbeat(can::kNmtBootUp);
 
   can::SlcanDecoder decoder;
-  can::SampleSequence sequence;
-  JiffyState state;
+  SilenceWatch silence{node};
   std::uint32_t heartbeat_tick = 0;
   for (;;) {
     while (console.rx_ready() && g_console_rx.free_space() > 0) g_console_rx.push(console.read());
     while (plant.rx_ready()) {
       can::CanFrame frame;
       if (!decoder.push(plant.read(), frame)) continue;
-      if (!state.plant_heard) state.last_sample_tick = g_ticks;  // silence is counted from here
-      state.plant_heard = state.heard_since_jiffy = true;  // a point-to-point link: no echo of our own
-      switch (can::classify(frame)) {
-        case can::MessageKind::load_cell_sample: {
-          can::LoadCellSampleMessage m;
-          if (can::decode(frame, m)) on_sample(state, sequence, m);
-          break;
-        }
-        case can::MessageKind::valve_feedback: {
-          can::ValveFeedbackMessage m;
-          if (can::decode(frame, m)) state.valve_position = static_cast<fw::ValvePosition>(m.position);
-          break;
-        }
-        default:
-          break;
-      }
+      const bool first_frame = !node.plant_heard();  // silence is counted from here
+      silence.heard(node.receive(frame), first_frame && node.plant_heard());
       plant.pump(g_plant_tx);
     }
-    watch_silence(state, sequence);
+    silence.watch();
     if (g_ticks - heartbeat_tick >= 10) {  // CiA 301 heartbeat every 100 ms
       heartbeat_tick = g_ticks;
-      send_frame(can::encode(can::HeartbeatMessage{can::kNodeIndicator, can::kNmtOperational}));
+      node.send_heartbeat(can::kNmtOperational);
     }
     plant.pump(g_plant_tx);
     console.pump(g_console_tx);

@@ -57,3 +57,8 @@ extern "C" __attribute__((section(".isr_vector"), used)) const Vector g_vectors[
     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
     Default_Handler, Default_Handler, Default_Handler, Default_Handler,
 };
+
+// The ports' virtual destructors put a deleting destructor in each vtable, which names operator
+// delete; nothing here is ever allocated (operator new does not link), so none is ever called.
+void operator delete(void*) noexcept { dynweigh::hal::cortexm::semihosting_exit(122); }
+void operator delete(void*, std::size_t) noexcept { dynweigh::hal::cortexm::semihosting_exit(122); }

@@ -279,7 +279,7 @@ firmware::Outputs LockstepRecorder::step(ConsolePort& console) {
   RecordedJiffy j;
   j.jiffy = session_.jiffy();
   // The simulated valve port reports the plant's feedback as it is before the step.
-  j.valve_position = static_cast<firmware::ValvePosition>(session_.plant().valve_feedback());
+  j.valve_position = session_.plant().valve_feedback();
   ConsoleTap tap(console);
   const firmware::Outputs live = session_.step(tap);
   j.console_rx = tap.take_rx();

@@ -16,11 +16,11 @@ firmware::LoadCellInput SimulatedLoadCell::read_sample() {
 
 void SimulatedValve::command(firmware::ValveCommand command, std::uint8_t delay_100us) {
   const double delay_s = delay_100us < jiffy_s_ * 1e4 ? delay_100us * 1e-4 : 0.0;
-  plant_.command_valve(static_cast<sim::ValveCommand>(command), delay_s);
+  plant_.command_valve(command, delay_s);
 }
 
 firmware::ValvePosition SimulatedValve::position() const {
-  return static_cast<firmware::ValvePosition>(plant_.valve_feedback());
+  return plant_.valve_feedback();
 }
 
 firmware::PersistentSettings factory_settings(const sim::Plant& plant) {

@@ -9,30 +9,19 @@
 #include <stdexcept>
 
 #include "dynweigh/hal/can/protocol.hpp"
-#include "dynweigh/hal/control_loop.hpp"
 
 namespace dynweigh::hal::linux_can {
 namespace {
 constexpr int kJiffyMs = 10;
 constexpr std::uint32_t kHeartbeatJiffies = 10;  // 100 ms
-
-// Our own frames, echoed by a bus, prove nothing about the plant's side of it.
-bool from_the_plant(const CanFrame& frame) {
-  switch (can::classify(frame)) {
-    case can::MessageKind::valve_command:
-    case can::MessageKind::indicator_status:
-      return false;
-    case can::MessageKind::heartbeat:
-      return frame.id != can::kIdHeartbeatBase + can::kNodeIndicator;
-    default:
-      return true;
-  }
-}
 }  // namespace
 
 CanBoard::CanBoard(CanTransport& transport, firmware::Indicator& indicator, ConsolePort& console,
                    SettingsStore* store, bool realtime)
-    : transport_(transport), indicator_(indicator), console_(console), store_(store), realtime_(realtime) {
+    : transport_(transport),
+      link_(transport),
+      node_(indicator, console, link_, can::IndicatorNodeOptions{store, kHeartbeatJiffies, nullptr}),
+      realtime_(realtime) {
   timer_fd_ = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
   if (timer_fd_ < 0) throw std::runtime_error("timerfd_create: " + std::string(std::strerror(errno)));
   if (realtime) arm_stale_timer(kStaleAfterMs);  // lockstep: once the plant has been heard
@@ -53,47 +42,9 @@ void CanBoard::arm_stale_timer(int first_ms) {
   ::timerfd_settime(timer_fd_, 0, &spec, nullptr);
 }
 
-void CanBoard::send_heartbeat(std::uint8_t nmt_state) {
-  transport_.send(can::encode(can::HeartbeatMessage{can::kNodeIndicator, nmt_state}));
-}
+void CanBoard::send_heartbeat(std::uint8_t nmt_state) { node_.send_heartbeat(nmt_state); }
 
-void CanBoard::leave() {
-  if (valve_.last_command() != firmware::ValveCommand::closed) {
-    valve_.command(firmware::ValveCommand::closed, 0);
-    transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(firmware::ValveCommand::closed), 0,
-                                                         outputs_.answered_counter}));
-  }
-  send_heartbeat(can::kNmtStopped);
-}
-
-firmware::LinkStatus CanBoard::link_status(bool heard) const {
-  if (transport_.bus_off()) return firmware::LinkStatus::bus_off;
-  return heard ? firmware::LinkStatus::ok : firmware::LinkStatus::silent;
-}
-
-void CanBoard::run_jiffy_without_sample() {
-  run_jiffy(link_status(heard_since_jiffy_));
-  sequence_.stood_in();
-}
-
-void CanBoard::run_jiffy(firmware::LinkStatus link, bool answer) {
-  load_cell_.set_link(link);
-  heard_since_jiffy_ = false;
-  Ports ports{load_cell_, valve_, console_, store_, save_report_};
-  outputs_ = run_one_jiffy(indicator_, ports, jiffy_);
-  save_report_ = ports.save_report;
-  if (answer) {
-    // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
-    transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(valve_.last_command()),
-                                                         valve_.last_delay_100us(), outputs_.answered_counter}));
-    transport_.send(can::encode(can::IndicatorStatusMessage{outputs_.weight_100mg,
-                                                            static_cast<std::uint8_t>(outputs_.state),
-                                                            static_cast<std::uint8_t>(outputs_.valve),
-                                                            outputs_.answered_counter}));
-  }
-  ++jiffy_;
-  if (jiffy_ % kHeartbeatJiffies == 0) send_heartbeat(can::kNmtOperational);
-}
+void CanBoard::leave() { node_.leave(); }
 
 CanBoard::Event CanBoard::poll(int timeout_ms) {
   for (;;) {
@@ -101,7 +52,7 @@ CanBoard::Event CanBoard::poll(int timeout_ms) {
     if (transport_.bus_off() != bus_off_reported_) {
       bus_off_reported_ = !bus_off_reported_;
       if (bus_off_reported_) {
-        run_jiffy_without_sample();
+        node_.run_without_sample();
         return Event::bus_off;
       }
     }
@@ -120,7 +71,7 @@ CanBoard::Event CanBoard::poll(int timeout_ms) {
       if (fds[1].revents & POLLIN) {
         std::uint64_t expirations = 0;
         if (::read(timer_fd_, &expirations, sizeof expirations) == ssize_t(sizeof expirations) && expirations > 0) {
-          run_jiffy_without_sample();  // the load cell is late: the indicator sees fresh = false
+          node_.run_without_sample();  // the load cell is late: the indicator sees fresh = false
           return Event::stale_jiffy;
         }
       }
@@ -128,48 +79,25 @@ CanBoard::Event CanBoard::poll(int timeout_ms) {
     }
     if (got < 0) return Event::closed;
     if (got == 0) continue;
-    if (from_the_plant(frame)) {
-      heard_since_jiffy_ = true;
-      if (!plant_heard_ && !realtime_) arm_stale_timer(kLockstepSilenceMs);
-      plant_heard_ = true;
-    }
-    switch (can::classify(frame)) {
-      case can::MessageKind::load_cell_sample: {
-        can::LoadCellSampleMessage m;
-        if (!can::decode(frame, m)) break;
-        const can::SampleSequence::Arrival arrival = sequence_.arrive(m.counter);
-        if (!arrival.accept) continue;  // the same sample again, or one the indicator is already past
-        for (std::uint16_t i = 0; i < arrival.missing; ++i) run_jiffy(link_status(true), /*answer=*/false);
-        load_cell_.deliver(firmware::LoadCellInput{m.raw_counts, m.counter, m.status, true, firmware::LinkStatus::ok});
-        last_raw_ = m.raw_counts;
-        run_jiffy(link_status(true));
+    const bool plant_was_heard = node_.plant_heard();
+    switch (node_.receive(frame)) {
+      case can::IndicatorNode::Heard::sample:
         arm_stale_timer(realtime_ ? kStaleAfterMs : kLockstepSilenceMs);
         return Event::jiffy;
-      }
-      case can::MessageKind::valve_feedback: {
-        can::ValveFeedbackMessage m;
-        if (can::decode(frame, m)) {
-          valve_.deliver_position(static_cast<firmware::ValvePosition>(m.position));
-          continue;
+      case can::IndicatorNode::Heard::plant_stopped:
+        if (!realtime_) {  // an orderly stop is no silence; the next plant's frame re-arms
+          disarm_stale_timer();
+          node_.forget_plant();
         }
+        return Event::plant_stopped;
+      case can::IndicatorNode::Heard::repeated_sample:
+      case can::IndicatorNode::Heard::valve_position:
         break;
-      }
-      case can::MessageKind::heartbeat: {
-        can::HeartbeatMessage m;
-        if (can::decode(frame, m) && m.node == can::kNodeLoadCell && m.nmt_state == can::kNmtStopped) {
-          sequence_.reset();  // a plant that comes back counts afresh
-          if (!realtime_) {   // an orderly stop is no silence; the next plant's frame re-arms
-            disarm_stale_timer();
-            plant_heard_ = false;
-          }
-          return Event::plant_stopped;
-        }
-        break;
-      }
-      default:
+      case can::IndicatorNode::Heard::ignored:
+        ++ignored_;  // our own frames echoed back, other nodes' heartbeats, malformed frames
         break;
     }
-    ++ignored_;  // our own frames echoed back, other nodes' heartbeats, malformed frames
+    if (!plant_was_heard && node_.plant_heard() && !realtime_) arm_stale_timer(kLockstepSilenceMs);
   }
 }
 

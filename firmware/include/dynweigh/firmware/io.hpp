@@ -5,12 +5,17 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "dynweigh/schema/can_values.hpp"
+
 namespace dynweigh::firmware {
 
-enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
-
-// 0x1A0 (docs/can-protocol.md): 0 closed, 1 moving, 2 half, 3 open.
-enum class ValvePosition : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
+// The plant link's values (valve command and position, status bits, state) are the schema's.
+using schema::IndicatorState;
+using schema::kLoadCellAdcError;
+using schema::kLoadCellOverload;
+using schema::kLoadCellUnderload;
+using schema::ValveCommand;
+using schema::ValvePosition;
 
 // The link that carries the samples, as the board sees it this jiffy. A board without a bus (an ADC
 // on the board, the in-process plant) always says `ok`.
@@ -23,14 +28,10 @@ enum class LinkStatus : std::uint8_t {
 struct LoadCellInput {
   std::int32_t raw_counts = 0;
   std::uint16_t counter = 0;
-  std::uint8_t status = 0;  // docs/can-protocol.md: bit0 overload, bit1 underload, bit2 ADC error
+  std::uint8_t status = 0;  // schema::kLoadCell* bits
   bool fresh = true;        // false: no sample arrived this jiffy
   LinkStatus link = LinkStatus::ok;
 };
-
-inline constexpr std::uint8_t kLoadCellOverload = 0x01;
-inline constexpr std::uint8_t kLoadCellUnderload = 0x02;
-inline constexpr std::uint8_t kLoadCellAdcError = 0x04;
 
 // The board's word on the settings the indicator asked it to keep in the last jiffy
 // (Outputs::settings_changed): saved, failed, or `none` (nothing asked, or a board without storage).
@@ -48,8 +49,6 @@ struct Inputs {
 // The 0x181 frame's weight before the first sample, while samples are stale and while the scale
 // is not calibrated: no weight rather than one computed from nothing.
 inline constexpr std::int32_t kWeightUnknown100mg = INT32_MIN;
-
-enum class IndicatorState : std::uint8_t { idle = 0, dosing = 1, settling = 2, fault = 3 };
 
 struct Outputs {
   ValveCommand valve = ValveCommand::closed;

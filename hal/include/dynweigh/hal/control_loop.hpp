@@ -15,6 +15,7 @@ struct Ports {
   // How the save asked for in the last jiffy went: the next jiffy's Inputs tell the indicator, so
   // a recording of Inputs replays a failed save too. A board keeps it from one jiffy to the next.
   firmware::SettingsSave save_report = firmware::SettingsSave::none;
+  StepProbe* probe = nullptr;
 };
 
 inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& ports, std::uint32_t jiffy) {
@@ -26,7 +27,9 @@ inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& po
   inputs.console_rx = rx;
   inputs.console_rx_length = ports.console.read(rx, sizeof rx);
   inputs.settings_save = ports.save_report;
+  if (ports.probe) ports.probe->before_step();
   const firmware::Outputs outputs = indicator.step(inputs);
+  if (ports.probe) ports.probe->after_step(outputs);
   ports.valve.command(outputs.valve, outputs.valve_delay_100us);
   char tx[512];
   for (std::size_t room, n; (room = ports.console.writable()) > 0 &&

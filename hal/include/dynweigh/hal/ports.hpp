@@ -48,6 +48,17 @@ class ConsolePort {
   virtual std::size_t writable() const { return static_cast<std::size_t>(-1); }
 };
 
+// Marks Indicator::step alone, for a board that measures it (the Cortex-M image's instruction
+// count per jiffy): called just before the step and just after it, with its outputs.
+class StepProbe {
+ public:
+  virtual void before_step() = 0;
+  virtual void after_step(const firmware::Outputs& outputs) = 0;
+
+ protected:
+  ~StepProbe() = default;
+};
+
 // Non-volatile storage for calibration and parameters.
 class SettingsStore {
  public:

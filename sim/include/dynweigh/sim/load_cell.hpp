@@ -5,6 +5,7 @@
 // constant, stepped exactly over the time between samples.
 #include <cstdint>
 
+#include "dynweigh/schema/can_values.hpp"
 #include "dynweigh/sim/random.hpp"
 #include "dynweigh/sim/scene.hpp"
 
@@ -13,12 +14,8 @@ namespace dynweigh::sim {
 struct LoadCellSample {
   std::int32_t raw_counts = 0;
   std::uint16_t counter = 0;
-  std::uint8_t status = 0;  // docs/can-protocol.md: bit0 overload, bit1 underload, bit2 ADC error
+  std::uint8_t status = 0;  // schema::kLoadCell* bits
 };
-
-inline constexpr std::uint8_t kStatusOverload = 0x01;
-inline constexpr std::uint8_t kStatusUnderload = 0x02;
-inline constexpr std::uint8_t kStatusAdcError = 0x04;
 
 class LoadCell {
  public:

@@ -70,7 +70,7 @@ class Plant {
   void jam_gate(bool jammed) { gate_.jam(jammed); }
 
   const PlantTruth& truth() const { return truth_; }
-  ValveFeedback valve_feedback() const { return valve_.feedback(); }
+  ValvePosition valve_feedback() const { return valve_.feedback(); }
   const Scene& scene() const { return scene_; }
 
   // Factory calibration of an indicator to this plant: counts of the empty container (hourglass:

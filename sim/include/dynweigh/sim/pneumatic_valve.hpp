@@ -21,7 +21,7 @@ class PneumaticValve {
 
   double stroke() const { return stroke_; }
   double time_s() const { return now_s_; }
-  ValveFeedback feedback() const;
+  ValvePosition feedback() const;
 
   // The earliest time after now at which the stroke's slope changes (or `limit_s`).
   double next_breakpoint_s(double limit_s) const;

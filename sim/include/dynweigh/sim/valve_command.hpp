@@ -1,13 +1,12 @@
 #pragma once
-#include <cstdint>
+#include "dynweigh/schema/can_values.hpp"
 
 namespace dynweigh::sim {
 
-// What the indicator asks of the valve module (docs/can-protocol.md: 0 closed, 1 half, 2 open).
-enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
-
-// What the valve module reports back (docs/can-protocol.md: 0 closed, 1 moving, 2 half, 3 open).
-enum class ValveFeedback : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
+// What the indicator asks of the valve module and what the module reports back: the plant link's
+// own values (docs/can-protocol.md).
+using schema::ValveCommand;
+using schema::ValvePosition;
 
 inline double stroke_for(ValveCommand command) {
   switch (command) {

@@ -1,0 +1,126 @@
+#pragma once
+// The indicator as a node on the plant link (docs/can-protocol.md), written once for every board
+// that carries the frames: the Linux board (SocketCAN, udp, slcan) and the Cortex-M image (SLCAN
+// on a UART) are adapters around it that bring a transport and a clock.
+//
+// One jiffy per 0x190 sample, through hal::run_one_jiffy; each is answered with exactly one 0x220
+// valve command carrying the sample's counter, then the 0x181 status. Samples are put in order by
+// their counter (sample_sequence.hpp): a duplicate runs no jiffy, a late one is discarded, a lost
+// one is a jiffy without a sample and without an answer (the plant no longer waits for it). When
+// the board's clock says the link has gone quiet, the board asks for a jiffy without a sample; the
+// indicator then sees the link `silent` if nothing at all came from the plant since the last
+// jiffy, `bus_off` whenever the transport says so.
+#include <cstdint>
+
+#include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/can/can_frame.hpp"
+#include "dynweigh/hal/can/sample_sequence.hpp"
+#include "dynweigh/hal/control_loop.hpp"
+#include "dynweigh/hal/ports.hpp"
+
+namespace dynweigh::hal::can {
+
+// The board's side of the link: where the node's frames go, and whether the bus is still there.
+class CanLink {
+ public:
+  virtual void send(const CanFrame& frame) = 0;
+  virtual bool bus_off() const { return false; }
+
+ protected:
+  ~CanLink() = default;
+};
+
+// The load cell as the last 0x190 frame: fresh once, then stale until the next one.
+class CanLoadCell final : public LoadCellPort {
+ public:
+  void deliver(const firmware::LoadCellInput& sample) {
+    sample_ = sample;
+    sample_.fresh = true;
+  }
+  void set_link(firmware::LinkStatus link) { sample_.link = link; }
+  firmware::LoadCellInput read_sample() override {
+    firmware::LoadCellInput out = sample_;
+    sample_.fresh = false;
+    return out;
+  }
+  std::int32_t last_raw_counts() const { return sample_.raw_counts; }
+
+ private:
+  firmware::LoadCellInput sample_{0, 0, 0, false, firmware::LinkStatus::ok};
+};
+
+// The valve as 0x220 out (sent by the node, with the answered counter) and 0x1A0 in.
+class CanValve final : public ValvePort {
+ public:
+  void command(firmware::ValveCommand command, std::uint8_t delay_100us) override {
+    command_ = command;
+    delay_100us_ = delay_100us;
+  }
+  firmware::ValvePosition position() const override { return position_; }
+  void deliver_position(firmware::ValvePosition position) { position_ = position; }
+  firmware::ValveCommand last_command() const { return command_; }
+  std::uint8_t last_delay_100us() const { return delay_100us_; }
+
+ private:
+  firmware::ValveCommand command_ = firmware::ValveCommand::closed;
+  std::uint8_t delay_100us_ = 0;
+  firmware::ValvePosition position_ = firmware::ValvePosition::closed;
+};
+
+struct IndicatorNodeOptions {
+  SettingsStore* settings = nullptr;  // nothing persists without one
+  // A 0x701 heartbeat after every this many jiffies; 0: the board sends heartbeats by its clock.
+  std::uint32_t heartbeat_jiffies = 0;
+  StepProbe* probe = nullptr;  // marks Indicator::step for a board that measures it
+};
+
+class IndicatorNode {
+ public:
+  // What a received frame did. `sample`: a jiffy ran on it (after any for lost samples);
+  // `repeated_sample`: a duplicate or late 0x190, no jiffy; `ignored`: our own frames echoed by a
+  // bus, other nodes' heartbeats, malformed frames.
+  enum class Heard { sample, repeated_sample, valve_position, plant_stopped, ignored };
+
+  IndicatorNode(firmware::Indicator& indicator, ConsolePort& console, CanLink& link,
+                const IndicatorNodeOptions& options = {});
+  IndicatorNode(const IndicatorNode&) = delete;
+  IndicatorNode& operator=(const IndicatorNode&) = delete;
+
+  Heard receive(const CanFrame& frame);
+  // A jiffy without a sample: the board's clock says the sample is late, or the bus went off.
+  void run_without_sample();
+  void send_heartbeat(std::uint8_t nmt_state);
+  // The indicator goes away: a valve it left open is commanded closed at once (not left to the
+  // valve module's 50 ms watchdog), then the heartbeat says NMT stopped.
+  void leave();
+
+  // A frame from the plant's nodes came since the start, or since forget_plant().
+  bool plant_heard() const { return plant_heard_; }
+  // The plant left in order (its NMT stopped): what comes next is a new plant.
+  void forget_plant() { plant_heard_ = false; }
+
+  std::uint32_t jiffy() const { return jiffy_; }
+  const firmware::Outputs& last_outputs() const { return outputs_; }
+  std::int32_t last_raw_counts() const { return load_cell_.last_raw_counts(); }
+  const SampleSequence& samples() const { return sequence_; }
+
+ private:
+  Heard on_sample(const CanFrame& frame);
+  // `answer`: send the 0x220/0x181 pair (not for a jiffy standing in for a lost sample).
+  void run_jiffy(firmware::LinkStatus link, bool answer);
+  firmware::LinkStatus link_status(bool heard) const;
+
+  firmware::Indicator& indicator_;
+  CanLink& link_;
+  std::uint32_t heartbeat_jiffies_;
+  CanLoadCell load_cell_;
+  CanValve valve_;
+  Ports ports_;
+  SampleSequence sequence_;
+  bool plant_heard_ = false;
+  bool heard_since_jiffy_ = false;  // a frame from the plant came since the last jiffy
+  std::uint32_t jiffy_ = 0;
+  firmware::Outputs outputs_{};
+};
+
+}  // namespace dynweigh::hal::can

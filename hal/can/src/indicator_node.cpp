@@ -1,0 +1,100 @@
+#include "dynweigh/hal/can/indicator_node.hpp"
+
+#include "dynweigh/hal/can/protocol.hpp"
+
+namespace dynweigh::hal::can {
+namespace {
+
+// Our own frames, echoed by a bus, prove nothing about the plant's side of it.
+bool from_the_plant(const CanFrame& frame) {
+  switch (classify(frame)) {
+    case MessageKind::valve_command:
+    case MessageKind::indicator_status:
+      return false;
+    case MessageKind::heartbeat:
+      return frame.id != kIdHeartbeatBase + kNodeIndicator;
+    default:
+      return true;
+  }
+}
+
+}  // namespace
+
+IndicatorNode::IndicatorNode(firmware::Indicator& indicator, ConsolePort& console, CanLink& link,
+                             const IndicatorNodeOptions& options)
+    : indicator_(indicator),
+      link_(link),
+      heartbeat_jiffies_(options.heartbeat_jiffies),
+      ports_{load_cell_, valve_, console, options.settings, firmware::SettingsSave::none, options.probe} {}
+
+IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
+  if (from_the_plant(frame)) heard_since_jiffy_ = plant_heard_ = true;
+  switch (classify(frame)) {
+    case MessageKind::load_cell_sample:
+      return on_sample(frame);
+    case MessageKind::valve_feedback: {
+      ValveFeedbackMessage m;
+      if (!decode(frame, m)) return Heard::ignored;
+      valve_.deliver_position(firmware::ValvePosition{m.position});
+      return Heard::valve_position;
+    }
+    case MessageKind::heartbeat: {
+      HeartbeatMessage m;
+      if (!decode(frame, m) || m.node != kNodeLoadCell || m.nmt_state != kNmtStopped) return Heard::ignored;
+      sequence_.reset();  // a plant that comes back counts afresh
+      return Heard::plant_stopped;
+    }
+    default:
+      return Heard::ignored;
+  }
+}
+
+IndicatorNode::Heard IndicatorNode::on_sample(const CanFrame& frame) {
+  LoadCellSampleMessage m;
+  if (!decode(frame, m)) return Heard::ignored;
+  const SampleSequence::Arrival arrival = sequence_.arrive(m.counter);
+  if (!arrival.accept) return Heard::repeated_sample;  // the indicator has it already, or is past it
+  for (std::uint16_t i = 0; i < arrival.missing; ++i) run_jiffy(link_status(true), /*answer=*/false);
+  load_cell_.deliver(firmware::LoadCellInput{m.raw_counts, m.counter, m.status, true, firmware::LinkStatus::ok});
+  run_jiffy(link_status(true), /*answer=*/true);
+  return Heard::sample;
+}
+
+void IndicatorNode::run_without_sample() {
+  run_jiffy(link_status(heard_since_jiffy_), /*answer=*/true);
+  sequence_.stood_in();
+}
+
+firmware::LinkStatus IndicatorNode::link_status(bool heard) const {
+  if (link_.bus_off()) return firmware::LinkStatus::bus_off;
+  return heard ? firmware::LinkStatus::ok : firmware::LinkStatus::silent;
+}
+
+void IndicatorNode::run_jiffy(firmware::LinkStatus link, bool answer) {
+  load_cell_.set_link(link);
+  heard_since_jiffy_ = false;
+  outputs_ = run_one_jiffy(indicator_, ports_, jiffy_);
+  if (answer) {
+    // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
+    link_.send(encode(ValveCommandMessage{std::uint8_t(valve_.last_command()), valve_.last_delay_100us(),
+                                          outputs_.answered_counter}));
+    link_.send(encode(IndicatorStatusMessage{outputs_.weight_100mg, std::uint8_t(outputs_.state),
+                                             std::uint8_t(outputs_.valve), outputs_.answered_counter}));
+  }
+  ++jiffy_;
+  if (heartbeat_jiffies_ != 0 && jiffy_ % heartbeat_jiffies_ == 0) send_heartbeat(kNmtOperational);
+}
+
+void IndicatorNode::send_heartbeat(std::uint8_t nmt_state) {
+  link_.send(encode(HeartbeatMessage{kNodeIndicator, nmt_state}));
+}
+
+void IndicatorNode::leave() {
+  if (valve_.last_command() != firmware::ValveCommand::closed) {
+    valve_.command(firmware::ValveCommand::closed, 0);
+    link_.send(encode(ValveCommandMessage{std::uint8_t(firmware::ValveCommand::closed), 0, outputs_.answered_counter}));
+  }
+  send_heartbeat(kNmtStopped);
+}
+
+}  // namespace dynweigh::hal::can
