@@ -59,12 +59,15 @@ LiveRun run_live(const std::vector<std::string>& lines, const std::string& path,
         return true;
       },
       [&run](const char* data, std::size_t n) { run.console.append(data, n); });
-  std::unique_ptr<hal::host::LockstepRecorder> recorder;
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
   console.set_indicator_busy(rest_jiffies > 0);
-  if (!path.empty()) recorder = std::make_unique<hal::host::LockstepRecorder>(path, session, "test");
+  if (!path.empty()) {
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(path, session.indicator(), "test");
+    session.record_to(recording.get());
+  }
   for (int i = 0; i < 30000; ++i) {
-    const firmware::Outputs out = recorder ? recorder->step(console) : session.step(console);
-    run.jiffies.push_back({out, session.indicator().filtered_weight_g(), session.last_row().raw});
+    const firmware::Outputs out = session.step(console);
+    run.jiffies.push_back({out, out.filtered_g, session.last_row().raw});
     console.set_indicator_busy(out.busy || i + 1 < rest_jiffies);  // nothing is sent while the scale rests
     if (console.input_ended() && !out.busy) break;
   }

@@ -61,7 +61,7 @@ void CanBoard::leave() {
   if (valve_.last_command() != firmware::ValveCommand::closed) {
     valve_.command(firmware::ValveCommand::closed, 0);
     transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(firmware::ValveCommand::closed), 0,
-                                                         outputs_.answered_counter}));
+                                                         record_.outputs.answered_counter}));
   }
   send_heartbeat(can::kNmtStopped);
 }
@@ -79,17 +79,18 @@ void CanBoard::run_jiffy_without_sample() {
 void CanBoard::run_jiffy(firmware::LinkStatus link, bool answer) {
   load_cell_.set_link(link);
   heard_since_jiffy_ = false;
-  Ports ports{load_cell_, valve_, console_, store_, save_report_};
-  outputs_ = run_one_jiffy(indicator_, ports, jiffy_);
+  Ports ports{load_cell_, valve_, console_, store_, save_report_, recorder_};
+  record_ = run_one_jiffy(indicator_, ports, jiffy_);
+  const firmware::Outputs& outputs = record_.outputs;
   save_report_ = ports.save_report;
   if (answer) {
     // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
     transport_.send(can::encode(can::ValveCommandMessage{static_cast<std::uint8_t>(valve_.last_command()),
-                                                         valve_.last_delay_100us(), outputs_.answered_counter}));
-    transport_.send(can::encode(can::IndicatorStatusMessage{outputs_.weight_100mg,
-                                                            static_cast<std::uint8_t>(outputs_.state),
-                                                            static_cast<std::uint8_t>(outputs_.valve),
-                                                            outputs_.answered_counter}));
+                                                         valve_.last_delay_100us(), outputs.answered_counter}));
+    transport_.send(can::encode(can::IndicatorStatusMessage{outputs.weight_100mg,
+                                                            static_cast<std::uint8_t>(outputs.state),
+                                                            static_cast<std::uint8_t>(outputs.valve),
+                                                            outputs.answered_counter}));
   }
   ++jiffy_;
   if (jiffy_ % kHeartbeatJiffies == 0) send_heartbeat(can::kNmtOperational);

@@ -108,6 +108,7 @@ class Indicator {
   };
 
   void receive_console(const Inputs& inputs);
+  void report_telemetry(Outputs& out) const;
   void execute_queued_commands();
   void execute(char* line);
   void process_sample(const LoadCellInput& sample);

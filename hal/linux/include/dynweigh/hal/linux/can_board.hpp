@@ -18,6 +18,7 @@
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/hal/can/sample_sequence.hpp"
+#include "dynweigh/hal/jiffy_record.hpp"
 #include "dynweigh/hal/linux/can_transport.hpp"
 #include "dynweigh/hal/ports.hpp"
 
@@ -79,8 +80,12 @@ class CanBoard {
   // once, not left to the valve module's 50 ms watchdog, then the heartbeat says NMT stopped.
   void leave();
 
+  // Every jiffy from the next on also goes to `recorder` (nullptr: no more); `dynweigh-fw --record`.
+  void record_to(JiffyRecorder* recorder) { recorder_ = recorder; }
+
   std::uint32_t jiffy() const { return jiffy_; }
-  const firmware::Outputs& last_outputs() const { return outputs_; }
+  const firmware::Outputs& last_outputs() const { return record_.outputs; }
+  const JiffyRecord& last_record() const { return record_; }
   std::uint32_t frames_ignored() const { return ignored_; }
   std::int32_t last_raw_counts() const { return last_raw_; }
   const can::SampleSequence& samples() const { return sequence_; }
@@ -113,7 +118,8 @@ class CanBoard {
   std::uint32_t ignored_ = 0;
   std::int32_t last_raw_ = 0;
   firmware::SettingsSave save_report_ = firmware::SettingsSave::none;
-  firmware::Outputs outputs_{};
+  JiffyRecorder* recorder_ = nullptr;
+  JiffyRecord record_;
 };
 
 }  // namespace dynweigh::hal::linux_can
