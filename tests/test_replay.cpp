@@ -216,6 +216,34 @@ TEST(RecordedSamples, ReadTestDataCaptureIsAcceptedAsIs) {
   std::remove(path.c_str());
 }
 
+// The one capture reader (dynweigh replay and dynweigh plant --replay) reads an inputs recording
+// too: each jiffy's raw sample and the valve the live run commanded.
+TEST(RecordedSamples, AnInputsRecordingGivesEachJiffysSampleAndValve) {
+  const std::string path = temp_path("samples.rec");
+  const LiveRun live = run_live({"dose 2000"}, path);
+  const tools::RecordedSamples samples = tools::load_recorded_samples(path);
+  EXPECT_EQ(samples.format, "inputs");
+  ASSERT_EQ(samples.samples.size(), live.jiffies.size());
+  for (std::size_t i = 0; i < live.jiffies.size(); ++i) {
+    ASSERT_EQ(samples.samples[i].raw_counts, live.jiffies[i].raw) << "jiffy " << i;
+    ASSERT_EQ(samples.samples[i].valve, int(live.jiffies[i].outputs.valve)) << "jiffy " << i;
+  }
+  EXPECT_GE(samples.first_open_jiffy(), 0);
+  std::remove(path.c_str());
+}
+
+// A capture as a terminal keeps it: the commands echoed before the data are skipped, not refused.
+TEST(RecordedSamples, ACaptureWithItsCommandsIsRead) {
+  const std::string path = temp_path("with_commands.txt");
+  write_all(path, "starttestdata 50 600\nOK\nreadtestdata\n0 8000 0 0\n1 8004 2 1\nOK\n");
+  const tools::RecordedSamples samples = tools::load_recorded_samples(path);
+  EXPECT_EQ(samples.format, "readtestdata");
+  ASSERT_EQ(samples.samples.size(), 2u);
+  EXPECT_EQ(samples.samples[1].raw_counts, 8004);
+  EXPECT_EQ(samples.samples[1].valve, 1);
+  std::remove(path.c_str());
+}
+
 TEST(RecordedSamples, MalformedFilesNameTheLine) {
   const std::string path = temp_path("bad.txt");
   const std::vector<std::pair<std::string, std::string>> cases = {

@@ -24,12 +24,12 @@ plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@12
 try:
     fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}", "--record", recording],
                         input="dose 2000\nstatus\n", capture_output=True, text=True, timeout=40)
+    print("--- dynweigh-fw ---\n" + fw.stdout + fw.stderr)
+    if fw.returncode != 0:
+        fail(f"dynweigh-fw --record with a plant on CAN exited {fw.returncode}")
     plant_out, _ = plant.communicate(timeout=10)
 finally:
     stop(plant)
-print("--- dynweigh-fw ---\n" + fw.stdout + fw.stderr)
-if fw.returncode != 0:
-    fail(f"dynweigh-fw --record with a plant on CAN exited {fw.returncode}")
 if not any(l.startswith("RESULT ") for l in fw.stdout.splitlines()):
     fail("the live run printed no RESULT")
 
