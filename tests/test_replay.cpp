@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <deque>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -122,6 +124,62 @@ TEST(ReplayInputsRecording, DoseReplaysBitForBit) {
   EXPECT_FALSE(replayed.summary.open_loop);
   ASSERT_EQ(replayed.summary.results.size(), 1u);
   EXPECT_GT(replayed.summary.cutoff_jiffy, 0);
+  std::remove(path.c_str());
+}
+
+// A console that takes a few bytes a jiffy, as a serial line does: the rest waits in the
+// indicator's ring and holds the next command back.
+class NarrowConsole final : public hal::ConsolePort {
+ public:
+  explicit NarrowConsole(std::deque<std::string> lines) : lines_(std::move(lines)) {}
+  void set_busy(bool busy) { busy_ = busy; }
+  bool done() const { return lines_.empty() && !busy_; }
+  std::size_t read(char* destination, std::size_t capacity) override {
+    room_ = kBytesPerJiffy;  // a board reads its console first thing in a jiffy
+    if (busy_ || lines_.empty()) return 0;
+    const std::string line = lines_.front() + "\n";
+    lines_.pop_front();
+    busy_ = true;
+    const std::size_t n = std::min(capacity, line.size());
+    std::memcpy(destination, line.data(), n);
+    return n;
+  }
+  void write(const char* data, std::size_t length) override {
+    printed.append(data, length);
+    room_ -= std::min(room_, length);
+  }
+  std::size_t writable() const override { return room_; }
+  std::string printed;
+
+ private:
+  static constexpr std::size_t kBytesPerJiffy = 48;
+  std::size_t room_ = kBytesPerJiffy;
+  std::deque<std::string> lines_;
+  bool busy_ = false;
+};
+
+std::string run_narrow(const std::string& record_path) {
+  hal::host::LockstepSession session(sim::default_scene(), 4);
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
+  if (!record_path.empty()) {
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(record_path, session.indicator(), "test");
+    session.record_to(recording.get());
+  }
+  NarrowConsole console({"param", "dose 2000", "status"});
+  for (int i = 0; i < 30000 && !console.done(); ++i) console.set_busy(session.step(console).busy);
+  return console.printed;
+}
+
+TEST(ReplayInputsRecording, ASlowConsoleRecordsAndReplaysAsItRan) {
+  const std::string path = temp_path("narrow.rec");
+  const std::string unrecorded = run_narrow("");
+  const std::string recorded = run_narrow(path);
+  EXPECT_EQ(recorded, unrecorded);  // recording changes nothing the board does
+  ASSERT_NE(recorded.find("RESULT target=2000"), std::string::npos) << recorded;
+  Replayed replayed;
+  replayed.summary = tools::replay_inputs_recording(path, {}, sinks_into(replayed));
+  EXPECT_EQ(replayed.summary.first_mismatch_jiffy, -1) << replayed.summary.mismatch;
+  EXPECT_EQ(replayed.console, recorded);
   std::remove(path.c_str());
 }
 

@@ -1,5 +1,6 @@
 #include "replay_run.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -23,13 +24,19 @@ class ReplayStepper {
     indicator_->resume_sequence(last_sequence);
   }
 
-  // Steps one jiffy; `recorded_valve` is what the recording's valve did (-1 unknown).
-  firmware::Outputs step(const RecordedJiffy& jiffy, int recorded_valve) {
+  // Steps one jiffy; `recorded_valve` is what the recording's valve did (-1 unknown). The console
+  // is drained of `drain` bytes at most: as many as the live board sent (a serial line takes what
+  // it has room for, and what stays in the indicator's ring holds the next command back).
+  firmware::Outputs step(const RecordedJiffy& jiffy, int recorded_valve,
+                         std::size_t drain = static_cast<std::size_t>(-1)) {
     const firmware::Outputs out = indicator_->step(jiffy.inputs());
     busy_ = out.busy;
     tx_.clear();
     char buffer[512];
-    for (std::size_t n; (n = indicator_->drain_console(buffer, sizeof buffer)) > 0;) tx_.append(buffer, n);
+    for (std::size_t n; tx_.size() < drain &&
+                        (n = indicator_->drain_console(buffer, std::min(sizeof buffer, drain - tx_.size()))) > 0;) {
+      tx_.append(buffer, n);
+    }
     if (!tx_.empty() && sinks_.console) sinks_.console(tx_.data(), tx_.size());
     collect_results();
 
@@ -62,6 +69,14 @@ class ReplayStepper {
   }
 
   const std::string& console_tx() const { return tx_; }
+  // What is left in the indicator's console, to the console sink.
+  void drain_rest() {
+    tx_.clear();
+    char buffer[512];
+    for (std::size_t n; (n = indicator_->drain_console(buffer, sizeof buffer)) > 0;) tx_.append(buffer, n);
+    if (!tx_.empty() && sinks_.console) sinks_.console(tx_.data(), tx_.size());
+    collect_results();
+  }
   bool busy() const { return busy_; }
   // The ERR answers printed since the last call.
   std::vector<std::string> take_errors() { return std::exchange(errors_, {}); }
@@ -152,7 +167,11 @@ ReplaySummary replay_inputs_recording(const std::string& path, const ReplayOptio
   for (RecordedJiffy jiffy; reader.next(jiffy);) {
     if (rewriter) jiffy.console_rx = rewriter->feed(jiffy.console_rx);
     const int recorded_valve = jiffy.has_outputs ? int(jiffy.outputs.valve) : -1;
-    const firmware::Outputs out = stepper.step(jiffy, recorded_valve);
+    // While the replay matches, the console drains as it did live; open loop, or once it has
+    // differed, all of it (what this build says differently must still be shown in full).
+    const bool matching = jiffy.has_outputs && summary.checked && summary.first_mismatch_jiffy < 0;
+    const std::size_t drain = matching ? jiffy.console_tx.size() : static_cast<std::size_t>(-1);
+    const firmware::Outputs out = stepper.step(jiffy, recorded_valve, drain);
     if (!jiffy.has_outputs) summary.checked = false;
     if (summary.checked && summary.first_mismatch_jiffy < 0) {
       if (!hal::host::same_outputs(out, jiffy.outputs, jiffy.has_telemetry)) {
@@ -166,6 +185,8 @@ ReplaySummary replay_inputs_recording(const std::string& path, const ReplayOptio
     }
     if (sinks.progress) sinks.progress(summary.jiffies, 0);
   }
+  // A replay that differed shows all it said; one that matched, only what the live board sent.
+  if (!summary.checked || summary.first_mismatch_jiffy >= 0) stepper.drain_rest();
   if (rewriter) summary.doses_rewritten = rewriter->rewritten();
   return summary;
 }
