@@ -293,12 +293,14 @@ TEST(RecordedSamples, AnInputsRecordingGivesEachJiffysSampleAndValve) {
 // A capture as a terminal keeps it: the commands echoed before the data are skipped, not refused.
 TEST(RecordedSamples, ACaptureWithItsCommandsIsRead) {
   const std::string path = temp_path("with_commands.txt");
-  write_all(path, "starttestdata 50 600\nOK\nreadtestdata\n0 8000 0 0\n1 8004 2 1\nOK\n");
+  write_all(path, "starttestdata 50 600\nOK\nreadtestdata\n0 8000 0 0\n1 8004 2 1\nOK\n"
+                  "readtestdata\n0 8010 0 2\n1 8011 0 0\nOK\n");  // and a second printout
   const tools::RecordedSamples samples = tools::load_recorded_samples(path);
   EXPECT_EQ(samples.format, "readtestdata");
-  ASSERT_EQ(samples.samples.size(), 2u);
+  ASSERT_EQ(samples.samples.size(), 4u);
   EXPECT_EQ(samples.samples[1].raw_counts, 8004);
   EXPECT_EQ(samples.samples[1].valve, 1);
+  EXPECT_EQ(samples.samples[2].raw_counts, 8010);
   std::remove(path.c_str());
 }
 

@@ -3,7 +3,8 @@
 // loop, `dynweigh plant --replay` sends them as the load-cell module. It reads
 // - a `readtestdata` capture in the thesis' indicator format (`<jiffy> <raw> <filtered> <marker>` a
 //   line; blank lines and the console's other lines, such as `OK` or an echoed command, are skipped;
-//   an `ERR` line is refused),
+//   an `ERR` line is refused; jiffies count on by one, or start again at 0 where another
+//   printout follows),
 // - a CSV whose header names a `raw` column (the dynweigh-fw --csv trace, dynweigh sim, dynweigh
 //   term --out) and optionally `valve` or `marker`,
 // - an inputs recording (dynweigh-fw --record): each jiffy's raw sample and the valve the live
