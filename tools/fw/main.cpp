@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
         std::string error;
         return modbus::parse_endpoint(text, error) ? std::string() : error;
       });
-  app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
+  app.add_option("--record", options.record, "record every jiffy (inputs, outputs, console bytes) for dynweigh replay, with either plant");
   if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh-fw")) return *exit_status;
   if (options.nvm_reset && options.nvm.empty()) {
     std::fprintf(stderr, "dynweigh-fw: --nvm-reset needs --nvm FILE\n");
