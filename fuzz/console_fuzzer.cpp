@@ -238,7 +238,7 @@ void play(const std::uint8_t* data, std::size_t size, bool paced) {
     console.set_indicator_busy(busy);
     console.set_echo(indicator->settings().parameters.get(firmware::ParameterId::echo) != 0.0f);
     console.start_jiffy();
-    const firmware::Outputs out = hal::run_one_jiffy(*indicator, ports, jiffy);
+    const firmware::Outputs out = hal::run_one_jiffy(*indicator, ports, jiffy).outputs;
     busy = out.busy;
     if (console.result_this_jiffy()) console.valve_closed_for_good();
     if (indicator->fault() != firmware::Fault::none) {

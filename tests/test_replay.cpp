@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <deque>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -59,12 +61,15 @@ LiveRun run_live(const std::vector<std::string>& lines, const std::string& path,
         return true;
       },
       [&run](const char* data, std::size_t n) { run.console.append(data, n); });
-  std::unique_ptr<hal::host::LockstepRecorder> recorder;
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
   console.set_indicator_busy(rest_jiffies > 0);
-  if (!path.empty()) recorder = std::make_unique<hal::host::LockstepRecorder>(path, session, "test");
+  if (!path.empty()) {
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(path, session.indicator(), "test");
+    session.record_to(recording.get());
+  }
   for (int i = 0; i < 30000; ++i) {
-    const firmware::Outputs out = recorder ? recorder->step(console) : session.step(console);
-    run.jiffies.push_back({out, session.indicator().filtered_weight_g(), session.last_row().raw});
+    const firmware::Outputs out = session.step(console);
+    run.jiffies.push_back({out, out.filtered_g, session.last_row().raw});
     console.set_indicator_busy(out.busy || i + 1 < rest_jiffies);  // nothing is sent while the scale rests
     if (console.input_ended() && !out.busy) break;
   }
@@ -119,6 +124,62 @@ TEST(ReplayInputsRecording, DoseReplaysBitForBit) {
   EXPECT_FALSE(replayed.summary.open_loop);
   ASSERT_EQ(replayed.summary.results.size(), 1u);
   EXPECT_GT(replayed.summary.cutoff_jiffy, 0);
+  std::remove(path.c_str());
+}
+
+// A console that takes a few bytes a jiffy, as a serial line does: the rest waits in the
+// indicator's ring and holds the next command back.
+class NarrowConsole final : public hal::ConsolePort {
+ public:
+  explicit NarrowConsole(std::deque<std::string> lines) : lines_(std::move(lines)) {}
+  void set_busy(bool busy) { busy_ = busy; }
+  bool done() const { return lines_.empty() && !busy_; }
+  std::size_t read(char* destination, std::size_t capacity) override {
+    room_ = kBytesPerJiffy;  // a board reads its console first thing in a jiffy
+    if (busy_ || lines_.empty()) return 0;
+    const std::string line = lines_.front() + "\n";
+    lines_.pop_front();
+    busy_ = true;
+    const std::size_t n = std::min(capacity, line.size());
+    std::memcpy(destination, line.data(), n);
+    return n;
+  }
+  void write(const char* data, std::size_t length) override {
+    printed.append(data, length);
+    room_ -= std::min(room_, length);
+  }
+  std::size_t writable() const override { return room_; }
+  std::string printed;
+
+ private:
+  static constexpr std::size_t kBytesPerJiffy = 48;
+  std::size_t room_ = kBytesPerJiffy;
+  std::deque<std::string> lines_;
+  bool busy_ = false;
+};
+
+std::string run_narrow(const std::string& record_path) {
+  hal::host::LockstepSession session(sim::default_scene(), 4);
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
+  if (!record_path.empty()) {
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(record_path, session.indicator(), "test");
+    session.record_to(recording.get());
+  }
+  NarrowConsole console({"param", "dose 2000", "status"});
+  for (int i = 0; i < 30000 && !console.done(); ++i) console.set_busy(session.step(console).busy);
+  return console.printed;
+}
+
+TEST(ReplayInputsRecording, ASlowConsoleRecordsAndReplaysAsItRan) {
+  const std::string path = temp_path("narrow.rec");
+  const std::string unrecorded = run_narrow("");
+  const std::string recorded = run_narrow(path);
+  EXPECT_EQ(recorded, unrecorded);  // recording changes nothing the board does
+  ASSERT_NE(recorded.find("RESULT target=2000"), std::string::npos) << recorded;
+  Replayed replayed;
+  replayed.summary = tools::replay_inputs_recording(path, {}, sinks_into(replayed));
+  EXPECT_EQ(replayed.summary.first_mismatch_jiffy, -1) << replayed.summary.mismatch;
+  EXPECT_EQ(replayed.console, recorded);
   std::remove(path.c_str());
 }
 
@@ -210,6 +271,36 @@ TEST(RecordedSamples, ReadTestDataCaptureIsAcceptedAsIs) {
   ASSERT_EQ(samples.samples.size(), 1000u);
   EXPECT_EQ(samples.first_open_jiffy(), 50);
   EXPECT_EQ(samples.samples[600].valve, 0);
+  std::remove(path.c_str());
+}
+
+// The one capture reader (dynweigh replay and dynweigh plant --replay) reads an inputs recording
+// too: each jiffy's raw sample and the valve the live run commanded.
+TEST(RecordedSamples, AnInputsRecordingGivesEachJiffysSampleAndValve) {
+  const std::string path = temp_path("samples.rec");
+  const LiveRun live = run_live({"dose 2000"}, path);
+  const tools::RecordedSamples samples = tools::load_recorded_samples(path);
+  EXPECT_EQ(samples.format, "inputs");
+  ASSERT_EQ(samples.samples.size(), live.jiffies.size());
+  for (std::size_t i = 0; i < live.jiffies.size(); ++i) {
+    ASSERT_EQ(samples.samples[i].raw_counts, live.jiffies[i].raw) << "jiffy " << i;
+    ASSERT_EQ(samples.samples[i].valve, int(live.jiffies[i].outputs.valve)) << "jiffy " << i;
+  }
+  EXPECT_GE(samples.first_open_jiffy(), 0);
+  std::remove(path.c_str());
+}
+
+// A capture as a terminal keeps it: the commands echoed before the data are skipped, not refused.
+TEST(RecordedSamples, ACaptureWithItsCommandsIsRead) {
+  const std::string path = temp_path("with_commands.txt");
+  write_all(path, "starttestdata 50 600\nOK\nreadtestdata\n0 8000 0 0\n1 8004 2 1\nOK\n"
+                  "readtestdata\n0 8010 0 2\n1 8011 0 0\nOK\n");  // and a second printout
+  const tools::RecordedSamples samples = tools::load_recorded_samples(path);
+  EXPECT_EQ(samples.format, "readtestdata");
+  ASSERT_EQ(samples.samples.size(), 4u);
+  EXPECT_EQ(samples.samples[1].raw_counts, 8004);
+  EXPECT_EQ(samples.samples[1].valve, 1);
+  EXPECT_EQ(samples.samples[2].raw_counts, 8010);
   std::remove(path.c_str());
 }
 

@@ -95,7 +95,7 @@ class SoakStation {
     bool valve_was_open = false, closed_after_open = false, alarmed = false;
     auto step = [&] {
       hal::Ports ports{p.faulty_cell, p.faulty_valve, console_, nullptr};
-      const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy);
+      const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy).outputs;
       if (out.valve != firmware::ValveCommand::closed) valve_was_open = true;
       if (valve_was_open && !closed_after_open && out.valve == firmware::ValveCommand::closed) {
         closed_after_open = true;
@@ -143,7 +143,7 @@ class SoakStation {
     hal::host::SimulatedValve valve(idle_plant, kJiffyS);
     for (std::uint32_t jiffy = 0; jiffy < 200; ++jiffy) {
       hal::Ports ports{cell, valve, console_, nullptr};
-      const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy);
+      const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy).outputs;
       idle_plant.advance(kJiffyS);
       if (console_.pending.empty() && !out.busy && answered(console_.output)) break;
     }

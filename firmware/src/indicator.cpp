@@ -114,7 +114,16 @@ Outputs Indicator::report(const Inputs& inputs) {
   out.weight_100mg = weight_known() ? std::int32_t(std::lround(filtered_weight_g() * 10.0f)) : kWeightUnknown100mg;
   out.settings_changed = settings_changed_;
   out.busy = busy();
+  report_telemetry(out);
   return out;
+}
+
+void Indicator::report_telemetry(Outputs& out) const {
+  const Calibration& cal = settings_.calibration;
+  out.filtered_g = filtered_weight_g();
+  out.net_g = cal.valid() ? scale_.screened_net_g(cal) : 0.0f;
+  out.predicted_g = dosing_.last_prediction_g();
+  out.fault = fault_;
 }
 
 bool Indicator::weight_known() const {

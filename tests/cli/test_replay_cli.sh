@@ -75,3 +75,12 @@ expect_failure "$bin/dynweigh" replay live.rec --dose 100
 expect_failure "$bin/dynweigh" replay live.rec --strategy sideways
 expect_failure "$bin/dynweigh" replay capture.txt --dose -5
 "$bin/dynweigh" replay --help | grep -q 'OPEN LOOP'
+
+# A recording begun on a board whose logbook already holds a result numbers its RESULT on from it,
+# and so does the replay.
+printf 'dose 1000\n' | "$bin/dynweigh-fw" --nvm board.nvm > /dev/null
+printf 'dose 1000\n' | "$bin/dynweigh-fw" --nvm board.nvm --record second.rec > second.txt
+grep -q '^RESULT .* seq=2' second.txt
+"$bin/dynweigh" replay second.rec -q > second_summary.txt
+grep -qxF result_seq=2 second_summary.txt
+grep -qxF matches_recording=1 second_summary.txt

@@ -47,7 +47,7 @@ class FaultRig {
 
   firmware::Outputs step() {
     hal::Ports ports{faulty_cell_, faulty_valve_, console_, nullptr};
-    const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy_);
+    const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy_).outputs;
     if (!detected_ && indicator_.fault() != firmware::Fault::none) {
       detected_ = true;
       detection_jiffy_ = jiffy_;

@@ -84,7 +84,7 @@ class ValveRig {
   firmware::Outputs step() {
     const bool was_stuck = valve_.stuck();
     hal::Ports ports{cell_, valve_, console_, nullptr};
-    const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy_);
+    const firmware::Outputs out = hal::run_one_jiffy(indicator_, ports, jiffy_).outputs;
     if (!was_stuck && valve_.stuck()) ignored_close_jiffy_ = jiffy_;
     if (!detected_ && indicator_.fault() != firmware::Fault::none) {
       detected_ = true;

@@ -72,10 +72,12 @@ TEST_F(FailingStorageBoard, AFailedSaveIsTheFaultNvmErrorNotOk) {
 TEST_F(FailingStorageBoard, ARecordingReplaysTheFailedSave) {
   const std::string path = ::testing::TempDir() + "failed_save.rec";
   {
-    hal::host::LockstepRecorder recorder(path, session, "test");
-    run_lines({"param fall_mm 1500"}, [&](hal::ConsolePort& console) { return recorder.step(console); });
+    hal::host::InputsRecordingWriter recording(path, session.indicator(), "test");
+    session.record_to(&recording);
+    run_lines({"param fall_mm 1500"}, [&](hal::ConsolePort& console) { return session.step(console); });
     nvm.arm_cut(10);
-    run_lines({"param fall_mm 1600", "status"}, [&](hal::ConsolePort& console) { return recorder.step(console); });
+    run_lines({"param fall_mm 1600", "status"}, [&](hal::ConsolePort& console) { return session.step(console); });
+    session.record_to(nullptr);
   }
   hal::host::InputsRecordingReader reader(path);
   firmware::Indicator replayed(reader.settings());
@@ -86,7 +88,7 @@ TEST_F(FailingStorageBoard, ARecordingReplaysTheFailedSave) {
     const firmware::Outputs out = replayed.step(j.inputs());
     char buffer[512];
     for (std::size_t n; (n = replayed.drain_console(buffer, sizeof buffer)) > 0;) printed.append(buffer, n);
-    EXPECT_TRUE(hal::host::same_outputs(out, j.outputs)) << "jiffy " << j.jiffy;
+    EXPECT_TRUE(hal::host::same_outputs(out, j.outputs, j.has_telemetry)) << "jiffy " << j.jiffy;
   }
   EXPECT_EQ(failed_saves, 1);
   EXPECT_EQ(replayed.fault(), Fault::nvm_error);

@@ -1,5 +1,6 @@
-// `dynweigh plant --replay FILE`: a readtestdata capture, a CSV with a raw column, or an inputs
-// recording; any other binary file is refused.
+// `dynweigh plant --replay FILE` reads its samples through the one capture reader (the same as
+// `dynweigh replay`): a readtestdata capture, a CSV with a raw column, or an inputs recording; any
+// other binary file is refused.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -8,12 +9,19 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "dynweigh/hal/host/inputs_recording.hpp"
-#include "replay_source.hpp"
+#include "recorded_samples.hpp"
 
 namespace dynweigh::tools {
 namespace {
+
+std::vector<std::int32_t> load_replay_samples(const std::string& path) {
+  std::vector<std::int32_t> raw;
+  for (const RecordedSample& sample : load_recorded_samples(path).samples) raw.push_back(sample.raw_counts);
+  return raw;
+}
 
 std::string write_temp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name + std::to_string(::getpid());

@@ -10,6 +10,7 @@
 
 #include "dynweigh/hal/can/protocol.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
+#include "dynweigh/hal/host/inputs_recording.hpp"
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/hal/host/simulated_plant_ports.hpp"
@@ -93,9 +94,9 @@ class CsvTrace {
   CsvTrace(const CsvTrace&) = delete;
   CsvTrace& operator=(const CsvTrace&) = delete;
   // The plant's truth is not known with an external plant: its columns stay empty (docs/programs.md).
-  void write(std::uint32_t jiffy, const firmware::Indicator& indicator, const firmware::Outputs& out, std::int32_t raw) {
-    std::fprintf(file_, "%.2f,%u,,,,%d,%.1f,%d\n", jiffy * 0.01, jiffy, raw, double(indicator.filtered_weight_g()),
-                 static_cast<int>(out.valve));
+  void write(const hal::JiffyRecord& jiffy) {
+    std::fprintf(file_, "%.2f,%u,,,,%d,%.1f,%d\n", jiffy.jiffy * 0.01, jiffy.jiffy, jiffy.load_cell.raw_counts,
+                 double(jiffy.outputs.filtered_g), static_cast<int>(jiffy.outputs.valve));
   }
 
  private:
@@ -113,6 +114,11 @@ int run_can_plant(const CanPlantOptions& options) {
   const std::unique_ptr<hal::linux_can::CanTransport> link = hal::linux_can::open_can_transport(options.transport);
   std::unique_ptr<CsvTrace> csv;
   if (!options.csv.empty()) csv = std::make_unique<CsvTrace>(options.csv);
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
+  if (!options.record.empty()) {
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(options.record, indicator,
+                                                                   "dynweigh-fw --plant can:" + options.transport);
+  }
   const FirstSampleWatch first_sample(link->name(), options.plant_timeout_s, options.realtime);
 
   // A serial console (a pty we make, or a device): the board serves it until a signal stops it.
@@ -124,6 +130,7 @@ int run_can_plant(const CanPlantOptions& options) {
   };
   const auto serve = [&](hal::ConsolePort& console) {
     CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
+    board.record_to(recording.get());
     board.send_heartbeat(hal::can::kNmtBootUp);
     while (!stop_requested()) {
       plc.before_jiffy();
@@ -156,6 +163,7 @@ int run_can_plant(const CanPlantOptions& options) {
         std::fflush(stdout);
       });
   CanBoard board(*link, indicator, plc.attach(console), nvm.store.get(), options.realtime);
+  board.record_to(recording.get());
   board.send_heartbeat(hal::can::kNmtBootUp);
   while (!stop_requested()) {
     plc.before_jiffy();
@@ -173,7 +181,7 @@ int run_can_plant(const CanPlantOptions& options) {
     }
     if (event == CanBoard::Event::quiet) continue;
     const firmware::Outputs& out = board.last_outputs();
-    if (csv) csv->write(board.jiffy() - 1, indicator, out, board.last_raw_counts());
+    if (csv) csv->write(board.last_record());
     console.set_indicator_busy(out.busy);
     if (console.input_ended() && !out.busy && !plc.active()) break;
   }

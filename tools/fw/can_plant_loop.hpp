@@ -18,6 +18,7 @@ struct CanPlantOptions {
   std::string pty_link;
   double plant_timeout_s = 10.0;  // lockstep: no first sample within this long is an error (0: wait)
   PlcLink* plc = nullptr;         // --modbus, or nothing
+  std::string record;             // --record FILE: every jiffy for dynweigh replay, or nothing
 };
 
 // Exit status when a lockstep plant never sent a sample within plant_timeout_s.

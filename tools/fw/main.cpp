@@ -1,4 +1,5 @@
-// dynweigh-fw: the indicator firmware on a host, against the in-process plant (docs/programs.md).
+// dynweigh-fw: the indicator firmware on a host, against the in-process plant or a plant on CAN
+// (docs/programs.md).
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -60,20 +61,22 @@ int run(const Options& options) {
   tools::PlcLink plc(tools::parse_modbus_options(options.modbus));
   if (options.plant.rfind("can:", 0) == 0) {  // an external plant on a CAN transport (hal/linux)
     return tools::run_can_plant({options.plant.substr(4), options.console, options.realtime, options.csv, options.nvm,
-                                 options.nvm_reset, options.pty_link, options.plant_timeout_s, &plc});
+                                 options.nvm_reset, options.pty_link, options.plant_timeout_s, &plc, options.record});
   }
   const sim::Scene scene = scene_from_plant_option(options.plant);
   tools::NvmStart nvm = tools::open_nvm(options.nvm, options.nvm_reset);
   hal::host::LockstepSession session(scene, options.seed, nvm.stored, nvm.store.get());
   tools::save_starting_settings(nvm, options.nvm, session.indicator().settings());
   std::unique_ptr<tools::TraceCsv> csv;
-  // --record: the same step, with every jiffy's Inputs and Outputs written for dynweigh replay.
-  std::unique_ptr<hal::host::LockstepRecorder> recorder;
+  // --record: every jiffy's record (Inputs, Outputs, console bytes) written for dynweigh replay.
+  std::unique_ptr<hal::host::InputsRecordingWriter> recording;
   if (!options.record.empty()) {
-    recorder = std::make_unique<hal::host::LockstepRecorder>(
-        options.record, session, "dynweigh-fw --plant " + options.plant + " --seed " + std::to_string(options.seed));
+    recording = std::make_unique<hal::host::InputsRecordingWriter>(
+        options.record, session.indicator(),
+        "dynweigh-fw --plant " + options.plant + " --seed " + std::to_string(options.seed));
+    session.record_to(recording.get());
   }
-  const auto step = [&](hal::ConsolePort& port) { return recorder ? recorder->step(port) : session.step(port); };
+  const auto step = [&](hal::ConsolePort& port) { return session.step(port); };
   if (!options.csv.empty()) csv = std::make_unique<tools::TraceCsv>(options.csv);
   hal::host::HostClock clock(options.realtime);
 
@@ -214,7 +217,7 @@ int main(int argc, char** argv) {
         std::string error;
         return modbus::parse_endpoint(text, error) ? std::string() : error;
       });
-  app.add_option("--record", options.record, "record every jiffy's inputs (console bytes included) for dynweigh replay");
+  app.add_option("--record", options.record, "record every jiffy (inputs, outputs, console bytes) for dynweigh replay, with either plant");
   if (const auto exit_status = tools::parse_command_line(app, argc, argv, "dynweigh-fw")) return *exit_status;
   if (options.nvm_reset && options.nvm.empty()) {
     std::fprintf(stderr, "dynweigh-fw: --nvm-reset needs --nvm FILE\n");
@@ -222,10 +225,6 @@ int main(int argc, char** argv) {
   }
   if (!options.pty_link.empty() && options.console != "pty") {
     std::fprintf(stderr, "dynweigh-fw: --pty-link works with --console pty only\n");
-    return 2;
-  }
-  if (!options.record.empty() && options.plant.rfind("can:", 0) == 0) {
-    std::fprintf(stderr, "dynweigh-fw: --record works with --plant sim only\n");
     return 2;
   }
   try {

@@ -28,7 +28,7 @@
 #include "dynweigh/sim/scene.hpp"
 #include "finite_range.hpp"
 #include "plant_commands.hpp"
-#include "replay_source.hpp"
+#include "recorded_samples.hpp"
 #include "command_line.hpp"
 
 namespace {
@@ -371,7 +371,9 @@ int run_plant_command(int argc, char** argv) {
     std::optional<sim::Plant> plant;
     std::vector<std::int32_t> replay;
     if (!options.replay.empty()) {
-      replay = tools::load_replay_samples(options.replay);
+      for (const tools::RecordedSample& sample : tools::load_recorded_samples(options.replay).samples) {
+        replay.push_back(sample.raw_counts);
+      }
     } else {
       std::optional<sim::Scene> scene = sim::scene_by_name(options.scene);
       if (!scene) {

@@ -1,5 +1,6 @@
 #include "replay_run.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -16,15 +17,26 @@ using hal::host::RecordedJiffy;
 // One indicator, stepped jiffy by jiffy, watched for what a reader of the replay wants to know.
 class ReplayStepper {
  public:
-  ReplayStepper(const firmware::PersistentSettings& settings, const ReplaySinks& sinks, ReplaySummary& summary)
-      : indicator_(std::make_unique<firmware::Indicator>(settings)), sinks_(sinks), summary_(summary) {}
+  // `last_sequence`: the live board's newest result number, so RESULT lines are numbered as they were.
+  ReplayStepper(const firmware::PersistentSettings& settings, const ReplaySinks& sinks, ReplaySummary& summary,
+                std::uint32_t last_sequence = 0)
+      : indicator_(std::make_unique<firmware::Indicator>(settings)), sinks_(sinks), summary_(summary) {
+    indicator_->resume_sequence(last_sequence);
+  }
 
-  // Steps one jiffy; `recorded_valve` is what the recording's valve did (-1 unknown).
-  firmware::Outputs step(const RecordedJiffy& jiffy, int recorded_valve) {
+  // Steps one jiffy; `recorded_valve` is what the recording's valve did (-1 unknown). The console
+  // is drained of `drain` bytes at most: as many as the live board sent (a serial line takes what
+  // it has room for, and what stays in the indicator's ring holds the next command back).
+  firmware::Outputs step(const RecordedJiffy& jiffy, int recorded_valve,
+                         std::size_t drain = static_cast<std::size_t>(-1)) {
     const firmware::Outputs out = indicator_->step(jiffy.inputs());
+    busy_ = out.busy;
     tx_.clear();
     char buffer[512];
-    for (std::size_t n; (n = indicator_->drain_console(buffer, sizeof buffer)) > 0;) tx_.append(buffer, n);
+    for (std::size_t n; tx_.size() < drain &&
+                        (n = indicator_->drain_console(buffer, std::min(sizeof buffer, drain - tx_.size()))) > 0;) {
+      tx_.append(buffer, n);
+    }
     if (!tx_.empty() && sinks_.console) sinks_.console(tx_.data(), tx_.size());
     collect_results();
 
@@ -44,9 +56,9 @@ class ReplayStepper {
       row.jiffy = jiffy.jiffy;
       row.raw_counts = jiffy.load_cell.raw_counts;
       row.gross_g = cal.valid() ? cal.counts_above_zero(row.raw_counts) / cal.counts_per_gram : 0.0f;
-      row.filtered_g = indicator_->filtered_weight_g();
+      row.filtered_g = out.filtered_g;
       row.has_prediction = dosing;
-      row.prediction_g = indicator_->last_prediction_g();
+      row.prediction_g = out.predicted_g;
       row.valve = out.valve;
       row.state = out.state;
       row.recorded_valve = recorded_valve;
@@ -57,7 +69,15 @@ class ReplayStepper {
   }
 
   const std::string& console_tx() const { return tx_; }
-  bool busy() const { return indicator_->busy(); }
+  // What is left in the indicator's console, to the console sink.
+  void drain_rest() {
+    tx_.clear();
+    char buffer[512];
+    for (std::size_t n; (n = indicator_->drain_console(buffer, sizeof buffer)) > 0;) tx_.append(buffer, n);
+    if (!tx_.empty() && sinks_.console) sinks_.console(tx_.data(), tx_.size());
+    collect_results();
+  }
+  bool busy() const { return busy_; }
   // The ERR answers printed since the last call.
   std::vector<std::string> take_errors() { return std::exchange(errors_, {}); }
 
@@ -78,6 +98,7 @@ class ReplayStepper {
   std::string tx_, pending_line_;
   std::vector<std::string> errors_;
   bool was_dosing_ = false;
+  bool busy_ = false;
   firmware::ValveCommand previous_valve_ = firmware::ValveCommand::closed;
 };
 
@@ -116,10 +137,15 @@ class DoseStrategyRewriter {
   std::size_t rewritten_ = 0;
 };
 
-std::string describe(const firmware::Outputs& o) {
+std::string describe(const firmware::Outputs& o, bool telemetry) {
   std::ostringstream s;
   s << "valve=" << int(o.valve) << " delay=" << int(o.valve_delay_100us) << " state=" << int(o.state)
     << " weight_100mg=" << o.weight_100mg << " busy=" << o.busy;
+  if (telemetry) {
+    s.precision(9);
+    s << " filtered_g=" << o.filtered_g << " net_g=" << o.net_g << " predicted_g=" << o.predicted_g
+      << " fault=" << firmware::fault_name(o.fault);
+  }
   return s.str();
 }
 
@@ -136,17 +162,22 @@ ReplaySummary replay_inputs_recording(const std::string& path, const ReplayOptio
   summary.open_loop = options.strategy.has_value();
   std::optional<DoseStrategyRewriter> rewriter;
   if (options.strategy) rewriter.emplace(*options.strategy);
-  ReplayStepper stepper(reader.settings(), sinks, summary);
+  ReplayStepper stepper(reader.settings(), sinks, summary, reader.last_sequence());
   summary.checked = !summary.open_loop;
   for (RecordedJiffy jiffy; reader.next(jiffy);) {
     if (rewriter) jiffy.console_rx = rewriter->feed(jiffy.console_rx);
     const int recorded_valve = jiffy.has_outputs ? int(jiffy.outputs.valve) : -1;
-    const firmware::Outputs out = stepper.step(jiffy, recorded_valve);
+    // While the replay matches, the console drains as it did live; open loop, or once it has
+    // differed, all of it (what this build says differently must still be shown in full).
+    const bool matching = jiffy.has_outputs && summary.checked && summary.first_mismatch_jiffy < 0;
+    const std::size_t drain = matching ? jiffy.console_tx.size() : static_cast<std::size_t>(-1);
+    const firmware::Outputs out = stepper.step(jiffy, recorded_valve, drain);
     if (!jiffy.has_outputs) summary.checked = false;
     if (summary.checked && summary.first_mismatch_jiffy < 0) {
-      if (!hal::host::same_outputs(out, jiffy.outputs)) {
+      if (!hal::host::same_outputs(out, jiffy.outputs, jiffy.has_telemetry)) {
         summary.first_mismatch_jiffy = long(jiffy.jiffy);
-        summary.mismatch = "outputs " + describe(out) + ", recorded " + describe(jiffy.outputs);
+        summary.mismatch = "outputs " + describe(out, jiffy.has_telemetry) + ", recorded " +
+                           describe(jiffy.outputs, jiffy.has_telemetry);
       } else if (stepper.console_tx() != jiffy.console_tx) {
         summary.first_mismatch_jiffy = long(jiffy.jiffy);
         summary.mismatch = "console output differs";
@@ -154,6 +185,8 @@ ReplaySummary replay_inputs_recording(const std::string& path, const ReplayOptio
     }
     if (sinks.progress) sinks.progress(summary.jiffies, 0);
   }
+  // A replay that differed shows all it said; one that matched, only what the live board sent.
+  if (!summary.checked || summary.first_mismatch_jiffy >= 0) stepper.drain_rest();
   if (rewriter) summary.doses_rewritten = rewriter->rewritten();
   return summary;
 }

@@ -73,13 +73,14 @@ firmware::LinkStatus IndicatorNode::link_status(bool heard) const {
 void IndicatorNode::run_jiffy(firmware::LinkStatus link, bool answer) {
   load_cell_.set_link(link);
   heard_since_jiffy_ = false;
-  outputs_ = run_one_jiffy(indicator_, ports_, jiffy_);
+  record_ = run_one_jiffy(indicator_, ports_, jiffy_);
+  const firmware::Outputs& outputs = record_.outputs;
   if (answer) {
     // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
     link_.send(encode(ValveCommandMessage{std::uint8_t(valve_.last_command()), valve_.last_delay_100us(),
-                                          outputs_.answered_counter}));
-    link_.send(encode(IndicatorStatusMessage{outputs_.weight_100mg, std::uint8_t(outputs_.state),
-                                             std::uint8_t(outputs_.valve), outputs_.answered_counter}));
+                                          outputs.answered_counter}));
+    link_.send(encode(IndicatorStatusMessage{outputs.weight_100mg, std::uint8_t(outputs.state),
+                                             std::uint8_t(outputs.valve), outputs.answered_counter}));
   }
   ++jiffy_;
   if (heartbeat_jiffies_ != 0 && jiffy_ % heartbeat_jiffies_ == 0) send_heartbeat(kNmtOperational);
@@ -92,7 +93,7 @@ void IndicatorNode::send_heartbeat(std::uint8_t nmt_state) {
 void IndicatorNode::leave() {
   if (valve_.last_command() != firmware::ValveCommand::closed) {
     valve_.command(firmware::ValveCommand::closed, 0);
-    link_.send(encode(ValveCommandMessage{std::uint8_t(firmware::ValveCommand::closed), 0, outputs_.answered_counter}));
+    link_.send(encode(ValveCommandMessage{std::uint8_t(firmware::ValveCommand::closed), 0, record_.outputs.answered_counter}));
   }
   send_heartbeat(kNmtStopped);
 }

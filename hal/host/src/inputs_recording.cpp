@@ -4,7 +4,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "dynweigh/hal/host/lockstep_session.hpp"
 
 namespace dynweigh::hal::host {
 namespace {
@@ -15,6 +14,9 @@ constexpr std::uint8_t kFlagOutputs = 0x02;
 // bits 2-3: the board's word on the last save (firmware::SettingsSave: 0 none, 1 saved, 2 failed)
 constexpr unsigned kSaveShift = 2;
 constexpr std::uint8_t kFlagSaveMask = 0x3u << kSaveShift;
+// bits 4-5 (version 2 on): the link's status (firmware::LinkStatus: 0 ok, 1 silent, 2 bus off)
+constexpr unsigned kLinkShift = 4;
+constexpr std::uint8_t kFlagLinkMask = 0x3u << kLinkShift;
 constexpr std::uint8_t kBitBusy = 0x01;
 constexpr std::uint8_t kBitSettingsChanged = 0x02;
 constexpr std::size_t kMaxSourceLength = 1024;
@@ -26,6 +28,18 @@ void put_u16(std::string& out, std::uint16_t v) {
 }
 void put_u32(std::string& out, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
+}
+
+std::uint32_t bits_of(float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+float float_of(std::uint32_t bits) {
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
 }
 
 std::uint32_t crc_of(const std::string& bytes) {
@@ -93,15 +107,19 @@ firmware::Inputs RecordedJiffy::inputs() const {
   return in;
 }
 
-bool same_outputs(const firmware::Outputs& a, const firmware::Outputs& b) {
-  return a.valve == b.valve && a.valve_delay_100us == b.valve_delay_100us &&
-         a.answered_counter == b.answered_counter && a.state == b.state && a.weight_100mg == b.weight_100mg &&
-         a.settings_changed == b.settings_changed && a.busy == b.busy;
+bool same_outputs(const firmware::Outputs& a, const firmware::Outputs& b, bool telemetry) {
+  const bool acted_on = a.valve == b.valve && a.valve_delay_100us == b.valve_delay_100us &&
+                        a.answered_counter == b.answered_counter && a.state == b.state &&
+                        a.weight_100mg == b.weight_100mg && a.settings_changed == b.settings_changed &&
+                        a.busy == b.busy;
+  return acted_on && (!telemetry || (bits_of(a.filtered_g) == bits_of(b.filtered_g) &&
+                                     bits_of(a.net_g) == bits_of(b.net_g) &&
+                                     bits_of(a.predicted_g) == bits_of(b.predicted_g) && a.fault == b.fault));
 }
 
 // ---------------------------------------------------------------------------------------------
 InputsRecordingWriter::InputsRecordingWriter(const std::string& path, const firmware::PersistentSettings& settings,
-                                             const std::string& source)
+                                             const std::string& source, std::uint32_t last_sequence)
     : file_(std::fopen(path.c_str(), "wb")), path_(path) {
   if (!file_) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
   std::uint8_t record[firmware::kSettingsRecordSize];
@@ -113,6 +131,7 @@ InputsRecordingWriter::InputsRecordingWriter(const std::string& path, const firm
   const std::string note = source.substr(0, kMaxSourceLength);
   put_u16(header, std::uint16_t(note.size()));
   header += note;
+  put_u32(header, last_sequence);
   put_u32(header, crc_of(header));
   if (std::fwrite(header.data(), 1, header.size(), file_) != header.size() || std::fflush(file_) != 0) {
     throw std::runtime_error("cannot write " + path);
@@ -134,7 +153,8 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
   put_u16(r, j.load_cell.counter);
   put_u8(r, j.load_cell.status);
   put_u8(r, std::uint8_t((j.load_cell.fresh ? kFlagFresh : 0) | (j.has_outputs ? kFlagOutputs : 0) |
-                         (static_cast<unsigned>(j.settings_save) << kSaveShift)));
+                         (static_cast<unsigned>(j.settings_save) << kSaveShift) |
+                         (static_cast<unsigned>(j.load_cell.link) << kLinkShift)));
   put_u8(r, static_cast<std::uint8_t>(j.valve_position));
   put_u16(r, std::uint16_t(j.console_rx.size()));
   r += j.console_rx;
@@ -146,6 +166,10 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
     put_u8(r, static_cast<std::uint8_t>(o.state));
     put_u32(r, std::uint32_t(o.weight_100mg));
     put_u8(r, std::uint8_t((o.busy ? kBitBusy : 0) | (o.settings_changed ? kBitSettingsChanged : 0)));
+    put_u32(r, bits_of(o.filtered_g));
+    put_u32(r, bits_of(o.net_g));
+    put_u32(r, bits_of(o.predicted_g));
+    put_u8(r, static_cast<std::uint8_t>(o.fault));
     put_u32(r, std::uint32_t(j.console_tx.size()));
     r += j.console_tx;
   }
@@ -154,6 +178,21 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
     throw std::runtime_error("cannot write " + path_ + ": " + std::strerror(errno));
   }
   ++jiffies_;
+}
+
+void InputsRecordingWriter::record(const JiffyRecord& jiffy) {
+  RecordedJiffy j;
+  j.jiffy = jiffy.jiffy;
+  j.load_cell = jiffy.load_cell;
+  j.valve_position = jiffy.valve_position;
+  j.console_rx.assign(jiffy.console_rx, jiffy.console_rx_length);
+  j.settings_save = jiffy.settings_save;
+  j.has_outputs = true;
+  j.has_telemetry = true;
+  j.outputs = jiffy.outputs;
+  j.console_tx.swap(pending_tx_);
+  pending_tx_.clear();
+  write(j);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -176,8 +215,9 @@ InputsRecordingReader::InputsRecordingReader(const std::string& path)
     throw std::runtime_error(path + ": not an inputs recording (no dynweigh-inputs header)");
   }
   version_ = in.u32("the header");
-  if (version_ != kInputsRecordingVersion) {
+  if (version_ < kOldestInputsRecordingVersion || version_ > kInputsRecordingVersion) {
     throw std::runtime_error(path + ": inputs recording version " + std::to_string(version_) + ", this build reads " +
+                             std::to_string(kOldestInputsRecordingVersion) + " to " +
                              std::to_string(kInputsRecordingVersion));
   }
   const std::uint32_t settings_size = in.u32("the header");
@@ -191,6 +231,7 @@ InputsRecordingReader::InputsRecordingReader(const std::string& path)
   const std::uint16_t source_length = in.u16("the header");
   if (source_length > kMaxSourceLength) throw std::runtime_error(path + ": damaged header (source note too long)");
   source_ = in.bytes(source_length, "the header");
+  if (version_ >= 2) last_sequence_ = in.u32("the header");
   const std::uint32_t expected = in.crc("the header");
   if (crc_of(header) != expected) throw std::runtime_error(path + ": damaged header (CRC mismatch)");
   if (!firmware::decode_settings(reinterpret_cast<const std::uint8_t*>(settings.data()), settings.size(), settings_)) {
@@ -217,11 +258,15 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
   const std::uint8_t flags = in.u8("a record");
   const std::uint8_t position = in.u8("a record");
   const unsigned save = (flags & kFlagSaveMask) >> kSaveShift;
-  if ((flags & ~(kFlagFresh | kFlagOutputs | kFlagSaveMask)) != 0 || position > 3 ||
-      save > static_cast<unsigned>(firmware::SettingsSave::failed)) {
+  const unsigned link = (flags & kFlagLinkMask) >> kLinkShift;
+  const std::uint8_t known_flags = version_ >= 2 ? kFlagFresh | kFlagOutputs | kFlagSaveMask | kFlagLinkMask
+                                                 : kFlagFresh | kFlagOutputs | kFlagSaveMask;
+  if ((flags & ~known_flags) != 0 || position > 3 || save > static_cast<unsigned>(firmware::SettingsSave::failed) ||
+      link > static_cast<unsigned>(firmware::LinkStatus::bus_off)) {
     throw std::runtime_error(where + " is damaged (bad flags)");
   }
   j.settings_save = static_cast<firmware::SettingsSave>(save);
+  j.load_cell.link = static_cast<firmware::LinkStatus>(link);
   j.load_cell.fresh = (flags & kFlagFresh) != 0;
   j.valve_position = static_cast<firmware::ValvePosition>(position);
   const std::uint16_t rx_length = in.u16("a record");
@@ -243,6 +288,13 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
     o.state = static_cast<firmware::IndicatorState>(state);
     o.busy = (bits & kBitBusy) != 0;
     o.settings_changed = (bits & kBitSettingsChanged) != 0;
+    if (version_ >= 2) {
+      o.filtered_g = float_of(in.u32("a record"));
+      o.net_g = float_of(in.u32("a record"));
+      o.predicted_g = float_of(in.u32("a record"));
+      o.fault = static_cast<firmware::Fault>(in.u8("a record"));  // a damaged byte fails the CRC below
+      j.has_telemetry = true;
+    }
     const std::uint32_t tx_length = in.u32("a record");
     if (tx_length > kMaxRecordedTxBytes) throw std::runtime_error(where + " is damaged (console output too long)");
     j.console_tx = in.bytes(tx_length, "a record");
@@ -251,65 +303,6 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
   if (crc_of(record) != expected) throw std::runtime_error(where + " is damaged (CRC mismatch)");
   ++records_;
   return true;
-}
-
-// ---------------------------------------------------------------------------------------------
-std::size_t ConsoleTap::read(char* destination, std::size_t capacity) {
-  const std::size_t n = inner_.read(destination, capacity);
-  rx_.append(destination, n);
-  return n;
-}
-
-void ConsoleTap::write(const char* data, std::size_t length) {
-  tx_.append(data, length);
-  inner_.write(data, length);
-}
-
-LockstepRecorder::LockstepRecorder(const std::string& path, LockstepSession& session, const std::string& source)
-    : session_(session),
-      writer_(path, session.indicator().settings(), source),
-      shadow_(std::make_unique<firmware::Indicator>(session.indicator().settings())) {
-  shadow_->resume_sequence(session.indicator().last_sequence());  // the logbook is the board's
-  if (session.jiffy() != 0) throw std::runtime_error("a recording must start at the session's first jiffy, not " + std::to_string(session.jiffy()));
-}
-
-LockstepRecorder::~LockstepRecorder() = default;
-
-firmware::Outputs LockstepRecorder::step(ConsolePort& console) {
-  RecordedJiffy j;
-  j.jiffy = session_.jiffy();
-  // The simulated valve port reports the plant's feedback as it is before the step.
-  j.valve_position = session_.plant().valve_feedback();
-  ConsoleTap tap(console);
-  const firmware::Outputs live = session_.step(tap);
-  j.console_rx = tap.take_rx();
-  j.console_tx = tap.take_tx();
-  j.load_cell.raw_counts = session_.last_row().raw;
-  j.load_cell.counter = live.answered_counter;  // the indicator answers the sample's counter
-  j.load_cell.fresh = true;                     // the in-process plant samples every jiffy
-  j.settings_save = session_.last_save_report();
-  j.has_outputs = true;
-  j.outputs = live;
-
-  const firmware::Fault live_fault = session_.indicator().fault();
-  // Status bits act only by raising a fault, and only the first raised counts: these four
-  // candidates cover every behaviour the bits can cause.
-  for (const std::uint8_t status : {std::uint8_t(0), firmware::kLoadCellAdcError, firmware::kLoadCellOverload,
-                                    firmware::kLoadCellUnderload}) {
-    j.load_cell.status = status;
-    auto trial = std::make_unique<firmware::Indicator>(*shadow_);
-    const firmware::Outputs decided = trial->step(j.inputs());
-    std::string tx;
-    char buffer[512];
-    for (std::size_t n; (n = trial->drain_console(buffer, sizeof buffer)) > 0;) tx.append(buffer, n);
-    if (same_outputs(decided, live) && tx == j.console_tx && trial->fault() == live_fault) {
-      shadow_ = std::move(trial);
-      writer_.write(j);
-      return live;
-    }
-  }
-  throw std::runtime_error("--record: jiffy " + std::to_string(j.jiffy) +
-                           " cannot be reproduced from the inputs the session shows; recording stopped");
 }
 
 }  // namespace dynweigh::hal::host

@@ -14,16 +14,15 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
 
 firmware::Outputs LockstepSession::step(ConsolePort& console) {
   const sim::PlantTruth truth = plant_.truth();  // at the instant the sample is taken
-  Ports ports{load_cell_, valve_, console, store_, save_report_};
-  last_save_report_ = save_report_;
-  const firmware::Outputs outputs = run_one_jiffy(indicator_, ports, jiffy_);
+  Ports ports{load_cell_, valve_, console, store_, save_report_, nullptr, recorder_};
+  record_ = run_one_jiffy(indicator_, ports, jiffy_);
   save_report_ = ports.save_report;
   row_ = TraceRow{truth.time_s, jiffy_, truth.static_kg, truth.in_flight_kg, truth.force_n,
-                  load_cell_.last().raw_counts, double(indicator_.filtered_weight_g()),
-                  static_cast<int>(outputs.valve)};
+                  record_.load_cell.raw_counts, double(record_.outputs.filtered_g),
+                  static_cast<int>(record_.outputs.valve)};
   plant_.advance(kJiffyS);
   ++jiffy_;
-  return outputs;
+  return record_.outputs;
 }
 
 }  // namespace dynweigh::hal::host

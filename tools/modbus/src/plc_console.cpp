@@ -122,7 +122,7 @@ void PlcConsole::fill_registers(const firmware::Indicator& indicator, const firm
   const bool known = outputs.weight_100mg != firmware::kWeightUnknown100mg;
   put_int32(r, input::net_dg, outputs.weight_100mg);
   r[input::state] = std::uint16_t(outputs.state);
-  r[input::fault] = std::uint16_t(indicator.fault());
+  r[input::fault] = std::uint16_t(outputs.fault);
   r[input::valve] = std::uint16_t(outputs.valve);
   r[input::result_seq] = result_seq_;
   put_int32(r, input::result_final_dg, result_.final_g * 10);
@@ -139,7 +139,7 @@ void PlcConsole::fill_registers(const firmware::Indicator& indicator, const firm
   std::int32_t in_flight = 0;
   if (dosing && known) {
     const float landed_g = float(outputs.weight_100mg - dose_start_100mg_) / 10.0f;
-    const float predicted_g = indicator.last_prediction_g();
+    const float predicted_g = outputs.predicted_g;
     if (predicted_g > landed_g) in_flight = to_decigrams(predicted_g - landed_g);
   }
   put_int32(r, input::in_flight_dg, in_flight);

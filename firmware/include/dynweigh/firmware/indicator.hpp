@@ -90,6 +90,7 @@ class Indicator {
 
   // The stages of a jiffy.
   void sense(const Inputs& inputs);
+  void report_telemetry(Outputs& out) const;
   void supervise(const Inputs& inputs);
   void command(bool fresh_sample);
   void dose();

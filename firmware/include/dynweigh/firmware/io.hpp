@@ -1,11 +1,13 @@
 #pragma once
 // What the indicator sees and does in one jiffy. Everything a board feeds it and takes from it
-// passes through these two structs, so a recording of Inputs replays the firmware exactly.
+// passes through these two structs, so a recording of Inputs replays the firmware exactly; and
+// everything a tool shows of it (the CSV, plots, replay, the PLC's registers) is read from Outputs.
 #include <climits>
 #include <cstddef>
 #include <cstdint>
 
 #include "dynweigh/schema/can_values.hpp"
+#include "dynweigh/firmware/fault.hpp"
 
 namespace dynweigh::firmware {
 
@@ -58,6 +60,12 @@ struct Outputs {
   std::int32_t weight_100mg = 0;       // the 0x181 status frame's weight, or kWeightUnknown100mg
   bool settings_changed = false;       // the board should persist settings() now
   bool busy = false;                   // a command is still running (dose, test cycle, print)
+
+  // Telemetry: what the indicator knows this jiffy, for tools; no board acts on it.
+  float filtered_g = 0.0f;   // the display filter's net weight (0 while not calibrated)
+  float net_g = 0.0f;        // this jiffy's sample, net of zero and tare, unfiltered (0 while not calibrated)
+  float predicted_g = 0.0f;  // the strategy's last prediction of where the fill ends (0 before any)
+  Fault fault = Fault::none;  // the latched fault, if state is fault
 };
 
 }  // namespace dynweigh::firmware

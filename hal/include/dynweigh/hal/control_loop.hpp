@@ -1,8 +1,10 @@
 #pragma once
-// The loop every target runs: read the ports, step the indicator, apply its outputs.
+// The loop every target runs: read the ports, step the indicator, apply its outputs. Each jiffy
+// comes back as a JiffyRecord (jiffy_record.hpp), the one place a board or a tool learns what happened.
 #include <cstddef>
 
 #include "dynweigh/firmware/indicator.hpp"
+#include "dynweigh/hal/jiffy_record.hpp"
 #include "dynweigh/hal/ports.hpp"
 
 namespace dynweigh::hal {
@@ -16,30 +18,34 @@ struct Ports {
   // a recording of Inputs replays a failed save too. A board keeps it from one jiffy to the next.
   firmware::SettingsSave save_report = firmware::SettingsSave::none;
   StepProbe* probe = nullptr;
+  JiffyRecorder* recorder = nullptr;  // every jiffy's record goes here too, if set (dynweigh-fw --record)
 };
 
-inline firmware::Outputs run_one_jiffy(firmware::Indicator& indicator, Ports& ports, std::uint32_t jiffy) {
-  char rx[128];
-  firmware::Inputs inputs;
-  inputs.jiffy = jiffy;
-  inputs.load_cell = ports.load_cell.read_sample();
-  inputs.valve_position = ports.valve.position();
-  inputs.console_rx = rx;
-  inputs.console_rx_length = ports.console.read(rx, sizeof rx);
-  inputs.settings_save = ports.save_report;
+// One jiffy: read the ports, step the indicator, apply its outputs, and say what happened.
+inline JiffyRecord run_one_jiffy(firmware::Indicator& indicator, Ports& ports, std::uint32_t jiffy) {
+  JiffyRecord record;
+  record.jiffy = jiffy;
+  record.load_cell = ports.load_cell.read_sample();
+  record.valve_position = ports.valve.position();
+  record.console_rx_length = ports.console.read(record.console_rx, sizeof record.console_rx);
+  record.settings_save = ports.save_report;
   if (ports.probe) ports.probe->before_step();
-  const firmware::Outputs outputs = indicator.step(inputs);
-  if (ports.probe) ports.probe->after_step(outputs);
+  record.outputs = indicator.step(record.inputs());
+  if (ports.probe) ports.probe->after_step(record.outputs);
+  const firmware::Outputs& outputs = record.outputs;
   ports.valve.command(outputs.valve, outputs.valve_delay_100us);
   char tx[512];
   for (std::size_t room, n; (room = ports.console.writable()) > 0 &&
                             (n = indicator.drain_console(tx, room < sizeof tx ? room : sizeof tx)) > 0;) {
     ports.console.write(tx, n);
+    record.console_tx_length += n;
+    if (ports.recorder) ports.recorder->console_sent(tx, n);
   }
   ports.save_report = !outputs.settings_changed || !ports.settings      ? firmware::SettingsSave::none
                       : ports.settings->save(indicator.settings()) ? firmware::SettingsSave::saved
                                                                    : firmware::SettingsSave::failed;
-  return outputs;
+  if (ports.recorder) ports.recorder->record(record);
+  return record;
 }
 
 }  // namespace dynweigh::hal

@@ -100,7 +100,10 @@ class IndicatorNode {
   void forget_plant() { plant_heard_ = false; }
 
   std::uint32_t jiffy() const { return jiffy_; }
-  const firmware::Outputs& last_outputs() const { return outputs_; }
+  const firmware::Outputs& last_outputs() const { return record_.outputs; }
+  const JiffyRecord& last_record() const { return record_; }
+  // Every jiffy from the next on also goes to `recorder` (nullptr: no more).
+  void record_to(JiffyRecorder* recorder) { ports_.recorder = recorder; }
   std::int32_t last_raw_counts() const { return load_cell_.last_raw_counts(); }
   const SampleSequence& samples() const { return sequence_; }
 
@@ -120,7 +123,7 @@ class IndicatorNode {
   bool plant_heard_ = false;
   bool heard_since_jiffy_ = false;  // a frame from the plant came since the last jiffy
   std::uint32_t jiffy_ = 0;
-  firmware::Outputs outputs_{};
+  JiffyRecord record_{};
 };
 
 }  // namespace dynweigh::hal::can

@@ -39,34 +39,26 @@ class LockstepSession {
                   SettingsStore* store = nullptr);
 
   firmware::Outputs step(ConsolePort& console);
+  // Every jiffy from the next on also goes to `recorder` (nullptr: no more); `dynweigh-fw --record`.
+  void record_to(JiffyRecorder* recorder) { recorder_ = recorder; }
 
   sim::Plant& plant() { return plant_; }
   firmware::Indicator& indicator() { return indicator_; }
   std::uint32_t jiffy() const { return jiffy_; }
   const TraceRow& last_row() const { return row_; }
-  // The board's word on the last save that the last step's Inputs carried.
-  firmware::SettingsSave last_save_report() const { return last_save_report_; }
+  // The last jiffy as the indicator saw and decided it.
+  const JiffyRecord& last_record() const { return record_; }
 
  private:
-  class RecordingLoadCell final : public LoadCellPort {
-   public:
-    explicit RecordingLoadCell(sim::Plant& plant) : inner_(plant) {}
-    firmware::LoadCellInput read_sample() override { return last_ = inner_.read_sample(); }
-    const firmware::LoadCellInput& last() const { return last_; }
-
-   private:
-    SimulatedLoadCell inner_;
-    firmware::LoadCellInput last_{};
-  };
-
   sim::Plant plant_;
-  RecordingLoadCell load_cell_;
+  SimulatedLoadCell load_cell_;
   SimulatedValve valve_;
   firmware::Indicator indicator_;
   SettingsStore* store_;
   firmware::RamLogbook<kRamLogbookSlots> ram_logbook_;  // without a store's
-  firmware::SettingsSave save_report_ = firmware::SettingsSave::none;       // for the next step
-  firmware::SettingsSave last_save_report_ = firmware::SettingsSave::none;  // the last step had
+  firmware::SettingsSave save_report_ = firmware::SettingsSave::none;  // for the next step
+  JiffyRecorder* recorder_ = nullptr;
+  JiffyRecord record_;
   std::uint32_t jiffy_ = 0;
   TraceRow row_;
 };

@@ -43,6 +43,9 @@ class CanBoard {
 
   std::uint32_t jiffy() const { return node_.jiffy(); }
   const firmware::Outputs& last_outputs() const { return node_.last_outputs(); }
+  const JiffyRecord& last_record() const { return node_.last_record(); }
+  // Every jiffy from the next on also goes to `recorder` (nullptr: no more); `dynweigh-fw --record`.
+  void record_to(JiffyRecorder* recorder) { node_.record_to(recorder); }
   std::uint32_t frames_ignored() const { return ignored_; }
   std::int32_t last_raw_counts() const { return node_.last_raw_counts(); }
   const can::SampleSequence& samples() const { return node_.samples(); }

@@ -1,5 +1,6 @@
 #include "recorded_samples.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -7,6 +8,8 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+
+#include "dynweigh/hal/host/inputs_recording.hpp"
 
 namespace dynweigh::tools {
 namespace {
@@ -94,8 +97,9 @@ void read_testdata(LineReader& in, std::string line, RecordedSamples& out) {
   long long previous_jiffy = -1;
   do {
     const std::string t = trimmed(line);
-    if (t.empty() || t == "OK" || t == "readtestdata") continue;
     if (t.rfind("ERR", 0) == 0) in.fail("is the indicator's error '" + t + "', not test data");
+    // The console's other lines around the data: OK, an echoed command, a prompt's text.
+    if (t.empty() || std::isalpha(static_cast<unsigned char>(t[0]))) continue;
     std::istringstream fields(t);
     std::string word[5];
     int n = 0;
@@ -106,7 +110,8 @@ void read_testdata(LineReader& in, std::string line, RecordedSamples& out) {
       in.fail("is not '<jiffy> <raw> <filtered> <marker>'");
     }
     if (marker < 0 || marker > 2) in.fail("has marker " + std::to_string(marker) + " (0, 1 or 2)");
-    if (previous_jiffy >= 0 && jiffy != previous_jiffy + 1) {
+    // Jiffy 0 again: another printout follows the first (a capture of several test cycles).
+    if (previous_jiffy >= 0 && jiffy != previous_jiffy + 1 && jiffy != 0) {
       in.fail("has jiffy " + std::to_string(jiffy) + " after " + std::to_string(previous_jiffy) + " (records must be consecutive)");
     }
     previous_jiffy = jiffy;
@@ -144,6 +149,18 @@ void read_csv(LineReader& in, const std::string& header, RecordedSamples& out) {
   }
 }
 
+// Each jiffy's raw sample as the indicator received it, and the valve it commanded.
+void read_inputs_recording(const std::string& path, RecordedSamples& out) {
+  out.format = "inputs";
+  hal::host::InputsRecordingReader reader(path);
+  for (hal::host::RecordedJiffy jiffy; reader.next(jiffy);) {
+    if (out.samples.size() >= kMaxSamples) {
+      throw std::runtime_error(path + ": exceeds " + std::to_string(kMaxSamples) + " samples, the most a replay takes");
+    }
+    out.samples.push_back({jiffy.load_cell.raw_counts, jiffy.has_outputs ? int(jiffy.outputs.valve) : -1});
+  }
+}
+
 }  // namespace
 
 long RecordedSamples::first_open_jiffy() const {
@@ -154,12 +171,17 @@ long RecordedSamples::first_open_jiffy() const {
 }
 
 RecordedSamples load_recorded_samples(const std::string& path) {
+  RecordedSamples out;
+  if (hal::host::InputsRecordingReader::is_recording(path)) {
+    read_inputs_recording(path, out);
+    if (out.samples.empty()) throw std::runtime_error(path + ": no samples");
+    return out;
+  }
   LineReader in(path);
   std::string first;
   while (in.next(first) && blank(first)) {
   }
   if (blank(first)) throw std::runtime_error(path + ": empty, no samples");
-  RecordedSamples out;
   if (first.find(',') != std::string::npos) {
     read_csv(in, first, out);
   } else {

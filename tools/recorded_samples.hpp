@@ -1,8 +1,15 @@
 #pragma once
-// Raw load-cell samples recorded one per jiffy, for an open-loop replay: a `readtestdata` capture
-// in the thesis' indicator format (`<jiffy> <raw> <filtered> <marker>` a line; blank lines, `OK`
-// and an echoed `readtestdata` are skipped), or a CSV whose header names a `raw` column (the
-// dynweigh-fw --csv trace, dynweigh sim, dynweigh term --out) and optionally `valve` or `marker`.
+// The one reader of captured load-cell samples, one per jiffy: `dynweigh replay` replays them open
+// loop, `dynweigh plant --replay` sends them as the load-cell module. It reads
+// - a `readtestdata` capture in the thesis' indicator format (`<jiffy> <raw> <filtered> <marker>` a
+//   line; blank lines and the console's other lines, such as `OK` or an echoed command, are skipped;
+//   an `ERR` line is refused; jiffies count on by one, or start again at 0 where another
+//   printout follows),
+// - a CSV whose header names a `raw` column (the dynweigh-fw --csv trace, dynweigh sim, dynweigh
+//   term --out) and optionally `valve` or `marker`,
+// - an inputs recording (dynweigh-fw --record): each jiffy's raw sample and the valve the live
+//   run commanded.
+// Any other binary file is refused.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,7 +22,7 @@ struct RecordedSample {
 };
 
 struct RecordedSamples {
-  std::string format;  // "readtestdata" or "csv"
+  std::string format;  // "readtestdata", "csv" or "inputs"
   std::vector<RecordedSample> samples;
   // The first jiffy the recorded valve was not closed, or -1.
   long first_open_jiffy() const;
