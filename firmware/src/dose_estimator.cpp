@@ -33,10 +33,8 @@ template <typename Scalar>
 void BasicDoseEstimator<Scalar>::configure(const Parameters& p, Scalar prior_rate_kg_s,
                                            const model::CutoffGeometry<Scalar>& full_open) {
   const auto get = [&p](ParameterId id) { return Scalar(p.get(id)); };
-  g_ = full_open.g;
+  full_open_ = full_open;
   jiffy_s_ = get(ParameterId::jiffy_ms) / Scalar(1000);
-  full_area_m2_ = full_open.bore_area_m2;
-  bulk_density_ = full_open.bulk_density;
   prior_rate_kg_s_ = prior_rate_kg_s;
   prior_per_jiffy_g_ = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
   settle_jiffies_ = std::uint32_t(p.get(ParameterId::impact_settle_ms) / p.get(ParameterId::jiffy_ms));
@@ -58,10 +56,8 @@ void BasicDoseEstimator<Scalar>::configure(const Parameters& p, Scalar prior_rat
 }
 
 template <typename Scalar>
-void BasicDoseEstimator<Scalar>::start(Scalar start_weight_g, Scalar first_fall_height_m,
-                                       const DoseValveTiming<Scalar>& timing) {
+void BasicDoseEstimator<Scalar>::start(Scalar start_weight_g, const DoseValveTiming<Scalar>& timing) {
   start_weight_g_ = start_weight_g;
-  first_fall_height_m_ = first_fall_height_m;
   opening_delay_s_ = timing.opening_delay_s;
   ramp_delay_s_ = timing.ramp_delay_s;
   // The first grains land a stroke before the whole stream does.
@@ -89,7 +85,7 @@ void BasicDoseEstimator<Scalar>::time_opening(Scalar net_weight_g) {
   if (!opening_.impact_found()) return;
   estimates_.impact_timed = true;
   estimates_.first_impact_s = opening_.first_impact_s();
-  estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m_, g_);
+  estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), full_open_.g);
 }
 
 // Once the stream has run a while, the impulse its impact brings, against the geometry typed in.
@@ -105,7 +101,7 @@ bool BasicDoseEstimator<Scalar>::confirm_stream() {
       observer_.equilibrium_g() - start_weight_g_,
       Scalar(jiffies_ - 1) * jiffy_s_, mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_),
       model::landing_start_s(estimates_.first_impact_s, ramp_delay_s_)};
-  estimates_.signature = model::impact_signature(seen, full_area_m2_, bulk_density_, g_);
+  estimates_.signature = model::impact_signature(seen, full_open_.bore_area_m2, full_open_.bulk_density, full_open_.g);
   return true;
 }
 
@@ -140,8 +136,8 @@ void BasicDoseEstimator<Scalar>::track_flow(Scalar net_weight_g, Scalar impact_s
 template <typename Scalar>
 void BasicDoseEstimator<Scalar>::start_observer(Scalar net_weight_g, Scalar previous_g) {
   const Scalar prior_per_jiffy = prior_per_jiffy_g_;
-  const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_area_m2_, bulk_density_);
-  const Scalar fall_s = model::fall_time(prior_v0, g_, first_fall_height_m_);
+  const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_open_.bore_area_m2, full_open_.bulk_density);
+  const Scalar fall_s = model::fall_time(prior_v0, full_open_.g, first_fall_height_m());
   const Scalar landed_s = Scalar(jiffies_ - 1) * jiffy_s_ - (opening_delay_s_ + fall_s);
   const Scalar landed_jiffies = std::fmin(std::fmax(landed_s / jiffy_s_, Scalar(0)), Scalar(1));
   observer_.start(net_weight_g, previous_g, start_weight_g_ + landed_jiffies * prior_per_jiffy, prior_per_jiffy,
@@ -149,11 +145,19 @@ void BasicDoseEstimator<Scalar>::start_observer(Scalar net_weight_g, Scalar prev
   measure_jiffy_ = jiffies_ + established_jiffies_;
 }
 
+// The first grains fall to the pile left by earlier fills, not to the floor.
+template <typename Scalar>
+Scalar BasicDoseEstimator<Scalar>::first_fall_height_m() const {
+  return full_open_.pile_grows
+             ? model::fall_height_to_pile_m(full_open_.pile, full_open_.orifice_to_floor_m, start_weight_g_ / Scalar(1000))
+             : full_open_.orifice_to_floor_m;
+}
+
 template <typename Scalar>
 void BasicDoseEstimator<Scalar>::track_platform(Scalar impact_speed_m_s) {
   const auto ringing = model::platform_ringing(platform_hz_, kPlatformDamping<Scalar>, platform_kg_,
                                                observer_.static_g() / Scalar(1000));
-  const Scalar impulse_s = impact_speed_m_s / g_;
+  const Scalar impulse_s = impact_speed_m_s / full_open_.g;
   observer_.set_platform(ringing.omega_rad_s * jiffy_s_, ringing.damping_ratio, impulse_s / jiffy_s_);
 }
 

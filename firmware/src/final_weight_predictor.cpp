@@ -94,12 +94,6 @@ void BasicFinalWeightPredictor<Scalar>::switch_to_half(Scalar predicted_now_g, s
   growth_per_jiffy_g_ *= timing_.half_flow_ratio;
 }
 
-// The first grains fall to the pile left by earlier fills, not to the floor.
-template <typename Scalar>
-Scalar BasicFinalWeightPredictor<Scalar>::first_fall_height_m() const {
-  return geometry_.pile_grows ? fall_height_m(start_weight_g_) : geometry_.orifice_to_floor_m;
-}
-
 template <typename Scalar>
 Scalar BasicFinalWeightPredictor<Scalar>::fall_height_m(Scalar net_weight_g) const {
   return model::fall_height_to_pile_m(geometry_.pile, geometry_.orifice_to_floor_m, net_weight_g / Scalar(1000));

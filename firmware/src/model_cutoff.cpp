@@ -44,7 +44,7 @@ template <typename Scalar>
 void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   valve_.start_dose();
   predictor_.start(start_weight_g, valve_.in_use());
-  estimator_.start(start_weight_g, predictor_.first_fall_height_m(), valve_.in_use());
+  estimator_.start(start_weight_g, valve_.in_use());
 }
 
 template <typename Scalar>

@@ -36,8 +36,8 @@ class BasicDoseEstimator {
   // `prior_rate_kg_s` is the flow expected before any is measured; `full_open` the plant's geometry
   // with the valve full open.
   void configure(const Parameters& parameters, Scalar prior_rate_kg_s, const model::CutoffGeometry<Scalar>& full_open);
-  // At the open command: the scale's net grams, the fall of the first grains, the valve's timing.
-  void start(Scalar start_weight_g, Scalar first_fall_height_m, const DoseValveTiming<Scalar>& timing);
+  // At the open command: the scale's net grams and the valve's timing for this dose.
+  void start(Scalar start_weight_g, const DoseValveTiming<Scalar>& timing);
 
   // One jiffy's unfiltered sample goes through these steps, in this order.
   // 1. Counts the jiffy and times the first impact until it is found.
@@ -71,11 +71,10 @@ class BasicDoseEstimator {
   void track_platform(Scalar impact_speed_m_s);
   void average_rate();
   void record_flow();
+  Scalar first_fall_height_m() const;
 
-  Scalar g_ = Scalar(9.81);
+  model::CutoffGeometry<Scalar> full_open_{};
   Scalar jiffy_s_ = Scalar(0.01);
-  Scalar full_area_m2_ = Scalar(0);
-  Scalar bulk_density_ = Scalar(1550);
   Scalar prior_rate_kg_s_ = Scalar(0);
   Scalar prior_per_jiffy_g_ = Scalar(0);
   Scalar impact_threshold_g_ = Scalar(20);
@@ -91,7 +90,6 @@ class BasicDoseEstimator {
 
   // This dose's.
   Scalar start_weight_g_ = Scalar(0);
-  Scalar first_fall_height_m_ = Scalar(0);
   Scalar opening_delay_s_ = Scalar(0);
   Scalar ramp_delay_s_ = Scalar(0);
   std::uint32_t established_jiffies_ = 0;  // from the first grain until the stream is whole

@@ -59,9 +59,8 @@ class BasicFinalWeightPredictor {
   Scalar growth_per_jiffy_g() const { return growth_per_jiffy_g_; }
   // Seconds from the close command until the last grain has landed.
   Scalar settle_delay_s() const;
-  // Orifice to pile top once `net_weight_g` is on the scale; where the first grains land.
+  // Orifice to pile top once `net_weight_g` is on the scale.
   Scalar fall_height_m(Scalar net_weight_g) const;
-  Scalar first_fall_height_m() const;
   // The stream's speed at the pile at the last prediction: it sets the impact's share of the reading.
   Scalar impact_speed_m_s() const { return last_impact_speed_m_s_; }
   Scalar prior_rate_kg_s() const { return prior_rate_kg_s_; }
