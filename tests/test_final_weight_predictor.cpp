@@ -5,6 +5,7 @@
 #include "dynweigh/firmware/final_weight_predictor.hpp"
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/model/gravity.hpp"
 #include "dynweigh/model/ideal_model.hpp"
 
 namespace dynweigh::firmware {
@@ -15,7 +16,7 @@ using Config = FinalWeightPredictorConfig<double>;
 
 DoseValveTiming<double> datasheet_timing() {
   BasicLearnedValveTiming<double> valve;
-  valve.configure(ValveDatasheet<double>{}, Config{}.material, Config{}.g, Config{}.bore_m);
+  valve.configure(ValveDatasheet<double>{}, Config{}.material, Config{}.bore_m);
   valve.start_dose();
   return valve.in_use();
 }
@@ -68,11 +69,11 @@ TEST(FinalWeightPredictor, TheIdealModelWithTheCorrectedSign) {
 
   const double rate_kg_s = rate_g_per_jiffy / (1000.0 * config.jiffy_s);
   const double v0 = model::outflow_speed(rate_kg_s, p.full_open_geometry().bore_area_m2, config.material.bulk_density);
-  const double excess_kg = model::reading_excess_at_close_kg(rate_kg_s, v0, config.g);
+  const double excess_kg = model::reading_excess_at_close_kg(rate_kg_s, v0, model::kGravity<double>);
   const double let_through_kg = rate_kg_s * datasheet_timing().full_closing_flow_s;
   EXPECT_NEAR(predicted, (equilibrium_g - 1000.0) + 1000.0 * (let_through_kg - excess_kg), 1e-6);
   EXPECT_DOUBLE_EQ(p.growth_per_jiffy_g(), rate_g_per_jiffy);
-  EXPECT_NEAR(p.impact_speed_m_s(), model::impact_speed(v0, config.g, config.orifice_to_floor_m), 1e-9);
+  EXPECT_NEAR(p.impact_speed_m_s(), model::impact_speed(v0, model::kGravity<double>, config.orifice_to_floor_m), 1e-9);
 }
 
 // A heap that rises shortens the fall: the stream lands slower on what is already in the
@@ -87,7 +88,7 @@ TEST(FinalWeightPredictor, APileThatRisesShortensTheFall) {
   on_pile.from_observer(20000.0, 24.0, 24.0);
   const double v0 = model::outflow_speed(24.0 / (1000.0 * fixed.jiffy_s), on_floor.full_open_geometry().bore_area_m2,
                                          fixed.material.bulk_density);
-  EXPECT_NEAR(on_floor.impact_speed_m_s(), model::impact_speed(v0, fixed.g, fixed.orifice_to_floor_m), 1e-9);
+  EXPECT_NEAR(on_floor.impact_speed_m_s(), model::impact_speed(v0, model::kGravity<double>, fixed.orifice_to_floor_m), 1e-9);
   EXPECT_LT(on_pile.impact_speed_m_s(), on_floor.impact_speed_m_s() - 0.1);
   EXPECT_LT(on_pile.fall_height_m(20000.0), rising.orifice_to_floor_m - 0.1);
   EXPECT_DOUBLE_EQ(on_pile.fall_height_m(0.0), rising.orifice_to_floor_m);
@@ -123,7 +124,7 @@ TEST(FinalWeightPredictor, TheLastGrainsFallFromRestAfterTheValveHasShut) {
   const Predictor p = started(config);
   const DoseValveTiming<double> timing = datasheet_timing();
   EXPECT_NEAR(p.settle_delay_s(),
-              timing.dead_s + timing.stroke_s + model::fall_time(0.0, config.g, config.orifice_to_floor_m), 1e-12);
+              timing.dead_s + timing.stroke_s + model::fall_time(0.0, model::kGravity<double>, config.orifice_to_floor_m), 1e-12);
 }
 
 }  // namespace

@@ -8,12 +8,11 @@
 namespace dynweigh::firmware {
 namespace {
 
-constexpr double kGravity = 9.81;
 constexpr double kBoreM = 0.06;
 
 BasicLearnedValveTiming<double> valve(double dead_s = 0.030, double stroke_s = 0.080) {
   BasicLearnedValveTiming<double> v;
-  v.configure({dead_s, stroke_s}, model::BeverlooMaterial<double>{}, kGravity, kBoreM);
+  v.configure({dead_s, stroke_s}, model::BeverlooMaterial<double>{}, kBoreM);
   return v;
 }
 
@@ -50,7 +49,7 @@ TEST(LearnedValveTiming, ConfiguringForgetsWhatWasLearned) {
   v.learn_dead_time(0.055);
   v.learn_dead_time(0.055);
   v.measured_travel(0.200, 4);
-  v.configure({0.030, 0.080}, model::BeverlooMaterial<double>{}, kGravity, kBoreM);
+  v.configure({0.030, 0.080}, model::BeverlooMaterial<double>{}, kBoreM);
   v.start_dose();
   EXPECT_DOUBLE_EQ(v.in_use().dead_s, 0.030);
   EXPECT_DOUBLE_EQ(v.in_use().stroke_s, 0.080);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dynweigh/model/gravity.hpp"
 #include "dynweigh/model/ideal_model.hpp"
 #include "dynweigh/model/platform_frequency.hpp"
 
@@ -85,7 +86,7 @@ void BasicDoseEstimator<Scalar>::time_opening(Scalar net_weight_g) {
   if (!opening_.impact_found()) return;
   estimates_.impact_timed = true;
   estimates_.first_impact_s = opening_.first_impact_s();
-  estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), full_open_.g);
+  estimates_.dead_time_s = opening_.dead_time_s(first_fall_height_m(), model::kGravity<Scalar>);
 }
 
 // Once the stream has run a while, the impulse its impact brings, against the geometry typed in.
@@ -101,7 +102,7 @@ bool BasicDoseEstimator<Scalar>::confirm_stream() {
       observer_.equilibrium_g() - start_weight_g_,
       Scalar(jiffies_ - 1) * jiffy_s_, mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_),
       model::landing_start_s(estimates_.first_impact_s, ramp_delay_s_)};
-  estimates_.signature = model::impact_signature(seen, full_open_.bore_area_m2, full_open_.bulk_density, full_open_.g);
+  estimates_.signature = model::impact_signature(seen, full_open_.bore_area_m2, full_open_.bulk_density, model::kGravity<Scalar>);
   return true;
 }
 
@@ -137,7 +138,7 @@ template <typename Scalar>
 void BasicDoseEstimator<Scalar>::start_observer(Scalar net_weight_g, Scalar previous_g) {
   const Scalar prior_per_jiffy = prior_per_jiffy_g_;
   const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_open_.bore_area_m2, full_open_.bulk_density);
-  const Scalar fall_s = model::fall_time(prior_v0, full_open_.g, first_fall_height_m());
+  const Scalar fall_s = model::fall_time(prior_v0, model::kGravity<Scalar>, first_fall_height_m());
   const Scalar landed_s = Scalar(jiffies_ - 1) * jiffy_s_ - (opening_delay_s_ + fall_s);
   const Scalar landed_jiffies = std::fmin(std::fmax(landed_s / jiffy_s_, Scalar(0)), Scalar(1));
   observer_.start(net_weight_g, previous_g, start_weight_g_ + landed_jiffies * prior_per_jiffy, prior_per_jiffy,
@@ -157,7 +158,7 @@ template <typename Scalar>
 void BasicDoseEstimator<Scalar>::track_platform(Scalar impact_speed_m_s) {
   const auto ringing = model::platform_ringing(platform_hz_, kPlatformDamping<Scalar>, platform_kg_,
                                                observer_.static_g() / Scalar(1000));
-  const Scalar impulse_s = impact_speed_m_s / full_open_.g;
+  const Scalar impulse_s = impact_speed_m_s / model::kGravity<Scalar>;
   observer_.set_platform(ringing.omega_rad_s * jiffy_s_, ringing.damping_ratio, impulse_s / jiffy_s_);
 }
 

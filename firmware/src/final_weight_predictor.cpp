@@ -1,6 +1,7 @@
 #include "dynweigh/firmware/final_weight_predictor.hpp"
 
 #include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/gravity.hpp"
 #include "dynweigh/model/ideal_model.hpp"
 
 namespace dynweigh::firmware {
@@ -8,7 +9,7 @@ namespace dynweigh::firmware {
 template <typename Scalar>
 void BasicFinalWeightPredictor<Scalar>::configure(const FinalWeightPredictorConfig<Scalar>& c) {
   jiffy_s_ = c.jiffy_s;
-  geometry_.g = c.g;
+  geometry_.g = model::kGravity<Scalar>;
   geometry_.bore_area_m2 = model::bore_area_m2(c.bore_m);
   geometry_.bulk_density = c.material.bulk_density;
   geometry_.orifice_to_floor_m = c.orifice_to_floor_m;
@@ -17,7 +18,7 @@ void BasicFinalWeightPredictor<Scalar>::configure(const FinalWeightPredictorConf
   geometry_.pile.bulk_density = c.material.bulk_density;
   geometry_.pile_grows = c.pile_grows;
   full_area_m2_ = geometry_.bore_area_m2;
-  prior_rate_kg_s_ = model::beverloo_discharge_kg_s(c.material, c.g, c.bore_m);
+  prior_rate_kg_s_ = model::beverloo_discharge_kg_s(c.material, model::kGravity<Scalar>, c.bore_m);
 }
 
 template <typename Scalar>
@@ -35,9 +36,9 @@ void BasicFinalWeightPredictor<Scalar>::start(Scalar start_weight_g, const DoseV
   geometry_.bore_area_m2 = full_area_m2_;
   growth_per_jiffy_g_ = prior_rate_kg_s_ * Scalar(1000) * jiffy_s_;
   last_fall_height_m_ = geometry_.orifice_to_floor_m;
-  last_fall_time_s_ = model::fall_time(Scalar(0), geometry_.g, last_fall_height_m_);
+  last_fall_time_s_ = model::fall_time(Scalar(0), model::kGravity<Scalar>, last_fall_height_m_);
   const Scalar prior_v0 = model::outflow_speed(prior_rate_kg_s_, full_area_m2_, geometry_.bulk_density);
-  last_impact_speed_m_s_ = model::impact_speed(prior_v0, geometry_.g, last_fall_height_m_);
+  last_impact_speed_m_s_ = model::impact_speed(prior_v0, model::kGravity<Scalar>, last_fall_height_m_);
 }
 
 template <typename Scalar>
@@ -62,7 +63,7 @@ Scalar BasicFinalWeightPredictor<Scalar>::from_observer(Scalar equilibrium_g, Sc
   growth_per_jiffy_g_ = rate_g_per_jiffy;
   last_fall_time_s_ = prediction.fall_time_s;
   last_fall_height_m_ = prediction.fall_height_m;
-  last_impact_speed_m_s_ = model::impact_speed(prediction.outflow_speed_m_s, geometry_.g, prediction.fall_height_m);
+  last_impact_speed_m_s_ = model::impact_speed(prediction.outflow_speed_m_s, model::kGravity<Scalar>, prediction.fall_height_m);
   return (equilibrium_g - start_weight_g_) + Scalar(1000) * prediction.above_reading_kg;
 }
 
@@ -103,7 +104,7 @@ template <typename Scalar>
 Scalar BasicFinalWeightPredictor<Scalar>::settle_delay_s() const {
   // The let-through in seconds of full flow is shorter than the time it takes: a slow stroke lets the
   // last grains go late. Those fall from the orifice at almost no speed.
-  return closing_duration_s_ + model::fall_time(Scalar(0), geometry_.g, last_fall_height_m_);
+  return closing_duration_s_ + model::fall_time(Scalar(0), model::kGravity<Scalar>, last_fall_height_m_);
 }
 
 template class BasicFinalWeightPredictor<float>;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/gravity.hpp"
 #include "dynweigh/model/valve_let_through.hpp"
 
 namespace dynweigh::firmware {
@@ -18,10 +19,9 @@ constexpr Scalar kStrokeDeadbandS = Scalar(0.015);
 
 template <typename Scalar>
 void BasicLearnedValveTiming<Scalar>::configure(const ValveDatasheet<Scalar>& datasheet,
-                                                const model::BeverlooMaterial<Scalar>& material, Scalar g,
-                                                Scalar bore_m) {
+                                                const model::BeverlooMaterial<Scalar>& material, Scalar bore_m) {
+  const Scalar g = model::kGravity<Scalar>;
   material_ = material;
-  g_ = g;
   bore_m_ = bore_m;
   datasheet_ = datasheet;
   measured_dead_s_ = datasheet.dead_s;
@@ -41,16 +41,17 @@ void BasicLearnedValveTiming<Scalar>::start_dose() {
 
 template <typename Scalar>
 void BasicLearnedValveTiming<Scalar>::use(Scalar dead_s, Scalar stroke_s) {
+  const Scalar g = model::kGravity<Scalar>;
   DoseValveTiming<Scalar>& t = in_use_;
   t.dead_s = dead_s;
   t.stroke_s = stroke_s;
   t.half_flow_ratio = half_flow_ratio_;
-  t.full_closing_flow_s = model::closing_flow_seconds(material_, g_, bore_m_, dead_s, stroke_s);
-  const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g_, bore_m_, Scalar(1));
+  t.full_closing_flow_s = model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s);
+  const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g, bore_m_, Scalar(1));
   const Scalar half_rate = full_rate * half_flow_ratio_;
   t.half_closing_flow_s =
       half_rate > Scalar(0)
-          ? model::closing_flow_seconds(material_, g_, bore_m_, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
+          ? model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
           : dead_s;
   t.half_transition_s = dead_s + Scalar(0.25) * stroke_s;
   t.full_closing_duration_s = dead_s + stroke_s;

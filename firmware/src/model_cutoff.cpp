@@ -4,16 +4,12 @@
 
 namespace dynweigh::firmware {
 namespace {
-template <typename Scalar>
-constexpr Scalar kGravity = Scalar(9.81);
-
 // The material is unknown until it flows: Beverloo's constants for a typical free-flowing sand
 // (docs/physics.md, Beverloo) give the prior; the measured flow replaces it after the first impact.
 template <typename Scalar>
 FinalWeightPredictorConfig<Scalar> predictor_config(const Parameters& p) {
   const auto get = [&p](ParameterId id) { return Scalar(p.get(id)); };
   FinalWeightPredictorConfig<Scalar> c;
-  c.g = kGravity<Scalar>;
   c.jiffy_s = get(ParameterId::jiffy_ms) / Scalar(1000);
   c.bore_m = get(ParameterId::bore_mm) / Scalar(1000);
   c.material = {Scalar(0.58), Scalar(1.5), Scalar(0.0005), get(ParameterId::density)};
@@ -34,7 +30,7 @@ template <typename Scalar>
 void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   const auto config = predictor_config<Scalar>(p);
   jiffy_s_ = config.jiffy_s;
-  valve_.configure(valve_datasheet<Scalar>(p), config.material, config.g, config.bore_m);
+  valve_.configure(valve_datasheet<Scalar>(p), config.material, config.bore_m);
   predictor_.configure(config);
   predictor_.use_valve_timing(valve_.in_use());
   estimator_.configure(p, predictor_.prior_rate_kg_s(), predictor_.full_open_geometry());

@@ -17,7 +17,6 @@ namespace dynweigh::firmware {
 // parameters named (docs/console.md).
 template <typename Scalar>
 struct FinalWeightPredictorConfig {
-  Scalar g = Scalar(9.81);        // m/s^2
   Scalar jiffy_s = Scalar(0.01);  // s, the control period (`jiffy_ms`, 10 ms)
   Scalar bore_m = Scalar(0.06);   // m, the valve's bore, its full open area (`bore_mm`, 60 mm)
   // The material until it flows: Beverloo's constants for a typical free-flowing sand (C 0.58,

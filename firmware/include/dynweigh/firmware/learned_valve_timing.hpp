@@ -41,7 +41,7 @@ class BasicLearnedValveTiming {
   static constexpr std::uint32_t kDeadTimeMinDoses = 2;
 
   // `material` and the bore set the flow the let-through is counted in. Forgets what was learned.
-  void configure(const ValveDatasheet<Scalar>& datasheet, const model::BeverlooMaterial<Scalar>& material, Scalar g,
+  void configure(const ValveDatasheet<Scalar>& datasheet, const model::BeverlooMaterial<Scalar>& material,
                  Scalar bore_m);
   // A dose whose stream ran measurably timed its first impact: one more measured dead time.
   void learn_dead_time(Scalar measured_s);
@@ -61,7 +61,6 @@ class BasicLearnedValveTiming {
   Scalar stroke_in_use_s(Scalar dead_s) const;
 
   model::BeverlooMaterial<Scalar> material_{};
-  Scalar g_ = Scalar(9.81);
   Scalar bore_m_ = Scalar(0);
   Scalar half_flow_ratio_ = Scalar(0.5);
   ValveDatasheet<Scalar> datasheet_{};
