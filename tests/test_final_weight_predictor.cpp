@@ -39,6 +39,9 @@ TEST(FinalWeightPredictor, TheConfigDefaultsAreTheParameterDefaults) {
     EXPECT_NEAR(cutoff.observe(0.0), predictor.from_prior(jiffy), 1e-3) << "jiffy " << jiffy;
   }
   EXPECT_NEAR(cutoff.settle_delay_s(), predictor.settle_delay_s(), 1e-9);
+  for (const double on_scale_g : {0.0, 5000.0, 30000.0}) {
+    EXPECT_NEAR(cutoff.fall_height_m(on_scale_g), predictor.fall_height_m(on_scale_g), 1e-9) << on_scale_g << " g";
+  }
 }
 
 // Before the stream is measured: the let-through alone, then the prior flow once the valve's

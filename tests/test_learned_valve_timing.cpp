@@ -28,7 +28,7 @@ TEST(LearnedValveTiming, OneSlowDoseIsNotEnoughTwoAre) {
 
 TEST(LearnedValveTiming, WithinTheValvesJitterTheDatasheetStands) {
   auto v = valve();
-  for (int dose = 0; dose < 10; ++dose) v.learn_dead_time(dose % 2 ? 0.034 : 0.026);
+  for (int dose = 0; dose < 10; ++dose) v.learn_dead_time(0.034);  // 4 ms late, every dose
   v.start_dose();
   EXPECT_DOUBLE_EQ(v.in_use().dead_s, 0.030);
 }
@@ -40,8 +40,8 @@ TEST(LearnedValveTiming, RemembersTheLastFewDoses) {
   for (int dose = 0; dose < 40; ++dose) v.learn_dead_time(0.060);
   v.learn_dead_time(0.030);
   v.start_dose();
-  const double memory = BasicLearnedValveTiming<double>::kDeadTimeMemory;
-  EXPECT_NEAR(v.in_use().dead_s, 0.060 - 0.030 / memory, 1e-6);
+  constexpr double kDosesRemembered = 8;  // docs/strategies.md
+  EXPECT_NEAR(v.in_use().dead_s, 0.060 - 0.030 / kDosesRemembered, 1e-6);
 }
 
 TEST(LearnedValveTiming, ConfiguringForgetsWhatWasLearned) {
