@@ -4,9 +4,14 @@
 // refilled silo without a fault and without the empty hopper's reading drifting.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <string>
 
+#include "dynweigh/hal/host/inputs_recording.hpp"
 #include "support/console_session.hpp"
 
 namespace dynweigh::testing {
@@ -116,6 +121,34 @@ TEST(Discharge, AutoDischargeRunsFillAndDischargeCyclesOnARefilledSilo) {
   EXPECT_EQ(field(lines_of(stats)[0], "count"), std::to_string(kCycles)) << stats;
   EXPECT_EQ(field(lines_of(stats)[0], "gate_cycles"), std::to_string(kCycles)) << stats;
   EXPECT_NE(status_of(s).find("fault=none"), std::string::npos);
+}
+
+// The gate's feedback is an input like the valve's: a recorded discharge replays bit for bit (a
+// replay that saw the gate closed would end in gate_not_open) and the gate's command is compared.
+TEST(Discharge, ARecordedDischargeReplaysWithItsGate) {
+  const std::string path = ::testing::TempDir() + "discharge" + std::to_string(::getpid()) + ".rec";
+  ConsoleSession s;
+  std::size_t gate_open_jiffies = 0;
+  {
+    hal::host::InputsRecordingWriter recording(path, s.session().indicator(), "test");
+    s.session().record_to(&recording);
+    ASSERT_NE(s.run({"dose 2000"}).find("RESULT "), std::string::npos);
+    ASSERT_EQ(s.run({"discharge"}), "OK\n");
+    s.session().record_to(nullptr);
+  }
+  hal::host::InputsRecordingReader reader(path);
+  firmware::Indicator replayed(reader.settings());
+  replayed.resume_sequence(reader.last_sequence());
+  std::size_t jiffies = 0;
+  for (hal::host::RecordedJiffy j; reader.next(j); ++jiffies) {
+    if (j.gate_position == firmware::GatePosition::open) ++gate_open_jiffies;
+    const firmware::Outputs out = replayed.step(j.inputs());
+    ASSERT_TRUE(hal::host::same_outputs(out, j.outputs, true)) << "jiffy " << jiffies;
+  }
+  EXPECT_GT(jiffies, 50u);
+  EXPECT_GT(gate_open_jiffies, 10u);
+  EXPECT_EQ(replayed.fault(), firmware::Fault::none);
+  std::remove(path.c_str());
 }
 
 TEST(Discharge, IsListedByHelp) {
