@@ -39,6 +39,8 @@ struct ConsoleCommands {
   static void estimates(Indicator& indicator, const Arguments& args);
   static void accept(Indicator& indicator, const Arguments& args);
   static void topup(Indicator& indicator, const Arguments& args);
+  // The discharge gate (discharge_commands.cpp).
+  static void discharge(Indicator& indicator, const Arguments& args);
   // The test data (test_data_commands.cpp).
   static void starttestdata(Indicator& indicator, const Arguments& args);
   static void readtestdata(Indicator& indicator, const Arguments& args);

@@ -47,8 +47,10 @@ void ConsoleCommands::abort(Indicator& indicator, const Arguments& args) {
   if (args.count != 1) return console.error(2, "usage: abort");
   if (indicator.dose_running()) indicator.dosing_.abort();
   indicator.follow_up_.finish();  // a held or topping-up result is dropped, unlogged
-  if (indicator.dose_command_pending_ || indicator.scale_.adjusting()) {
+  indicator.discharge_.abort();   // the gate is commanded closed, unproven
+  if (indicator.dose_command_pending_ || indicator.discharge_command_pending_ || indicator.scale_.adjusting()) {
     indicator.dose_command_pending_ = false;
+    indicator.discharge_command_pending_ = false;
     indicator.scale_.cancel_adjustment();
     console.error(3, "aborted");
   }

@@ -20,6 +20,9 @@ const char* fault_name(Fault fault) {
     case Fault::can_silence: return "can_silence";
     case Fault::bus_off: return "bus_off";
     case Fault::nvm_error: return "nvm_error";
+    case Fault::gate_not_open: return "gate_not_open";
+    case Fault::gate_not_closed: return "gate_not_closed";
+    case Fault::not_empty: return "not_empty";
   }
   return "unknown";
 }

@@ -96,6 +96,8 @@ void Indicator::report_result() {
     raise(Fault::nvm_error);
     return console_.error(4, "fault nvm_error");
   }
+  // The dose answers once the hopper is empty again: the next command finds it so.
+  if (settings_.parameters.get(ParameterId::auto_discharge) != 0.0f) return start_discharge();
   ok();
 }
 

@@ -17,11 +17,13 @@ void Indicator::apply_parameters() {
   dosing_.configure(p);
   follow_up_.configure(p);
   supervisor_.configure(p);
+  discharge_.configure(p);
 }
 
 Outputs Indicator::step(const Inputs& inputs) {
   settings_changed_ = false;
   jiffy_ = inputs.jiffy;
+  gate_position_ = inputs.gate_position;
   sense(inputs);
   supervise(inputs);
   command(inputs.load_cell.fresh);
@@ -76,14 +78,15 @@ void Indicator::command(bool fresh_sample) {
   answer_adjustment(scale_.advance_adjustment(fresh_sample, settings_.calibration, settings_.parameters));
 }
 
-// The dosing cycle on this jiffy's sample, and what follows its certified result.
+// The dosing cycle on this jiffy's sample, what follows its certified result, and the discharge.
 void Indicator::dose() {
   advance_dose();
   advance_follow_up();
+  advance_discharge();
 }
 
 // The valve command in force: closed on a fault, else the dose's, its top-up's, or the test
-// cycle's or manual one.
+// cycle's or manual one. The gate opens only for a discharge, and closes on a fault.
 void Indicator::actuate() {
   const ValveCommand scheduled = advance_test_cycle();
   const ValveCommand before = valve_;
@@ -98,6 +101,9 @@ void Indicator::actuate() {
   }
   valve_delay_100us_ = dose_running() ? dosing_.valve_delay_100us() : 0;
   totals_.jiffy(before, valve_, dose_running() || follow_up_.active());
+  const GateCommand gate_before = gate_;
+  gate_ = fault_ == Fault::none ? discharge_.gate() : GateCommand::closed;
+  if (gate_before == GateCommand::closed && gate_ == GateCommand::open) ++totals_.gate_cycles;
 }
 
 // The test-data recorder, the listings being printed, and the jiffy's Outputs.
@@ -108,6 +114,7 @@ Outputs Indicator::report(const Inputs& inputs) {
   continue_log_print();
   Outputs out;
   out.valve = valve_;
+  out.gate = gate_;
   out.valve_delay_100us = valve_delay_100us_;
   out.answered_counter = inputs.load_cell.counter;
   out.state = state_of(activity());
@@ -141,6 +148,7 @@ Indicator::Activity Indicator::activity() const {
   if (phase == DosingCycle::Phase::settling || follow_up == ToleranceFollowUp::Phase::settling) {
     return Activity::settling;
   }
+  if (discharge_.active()) return Activity::discharging;
   return Activity::idle;
 }
 
@@ -151,6 +159,7 @@ const char* Indicator::activity_name(Activity activity) {
     case Activity::settling: return "settling";
     case Activity::hold: return "hold";
     case Activity::fault: return "fault";
+    case Activity::discharging: return "discharging";
   }
   return "idle";
 }
@@ -158,7 +167,8 @@ const char* Indicator::activity_name(Activity activity) {
 IndicatorState Indicator::state_of(Activity activity) {
   switch (activity) {
     case Activity::idle: return IndicatorState::idle;
-    case Activity::dosing: return IndicatorState::dosing;
+    case Activity::dosing:
+    case Activity::discharging: return IndicatorState::dosing;
     case Activity::settling:
     case Activity::hold: return IndicatorState::settling;
     case Activity::fault: return IndicatorState::fault;
@@ -169,7 +179,7 @@ IndicatorState Indicator::state_of(Activity activity) {
 // A dose's test-data recording runs on after its result and is no part of it: the next dose
 // restarts it (`readtestdata info` tells which dose the recorder holds).
 bool Indicator::cycle_running() const {
-  return dose_running() || test_.active || scale_.adjusting() || follow_up_.active();
+  return dose_running() || test_.active || scale_.adjusting() || follow_up_.active() || discharge_.active();
 }
 
 // A dose held for the operator waits on the console: a script may send `accept` or `topup`.
@@ -197,8 +207,10 @@ void Indicator::raise(Fault fault) {
   test_.scheduled = false;
   if (dose_running()) dosing_.abort();
   follow_up_.finish();
-  if (dose_command_pending_ || scale_.adjusting()) {
+  discharge_.abort();
+  if (dose_command_pending_ || discharge_command_pending_ || scale_.adjusting()) {
     dose_command_pending_ = false;
+    discharge_command_pending_ = false;
     scale_.cancel_adjustment();
     console_.write("ERR 4 fault ");
     console_.line(fault_name(fault));

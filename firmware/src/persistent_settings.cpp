@@ -10,10 +10,12 @@ namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
-// 5: the tolerance parameters
-constexpr std::uint16_t kVersion = 5;
+// 5: the tolerance parameters; 6: the discharge parameters
+constexpr std::uint16_t kVersion = 6;
 constexpr std::uint16_t kVersionBeforeTolerance = 4;
 constexpr std::size_t kParametersBeforeTolerance = static_cast<std::size_t>(ParameterId::oiml_class);
+constexpr std::uint16_t kVersionBeforeDischarge = 5;
+constexpr std::size_t kParametersBeforeDischarge = static_cast<std::size_t>(ParameterId::auto_discharge);
 
 void put_f32(std::uint8_t* p, float f) {
   std::uint32_t v;
@@ -129,6 +131,7 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
   const std::size_t parameter_count = version == kVersion                  ? kParameterCount
+                                      : version == kVersionBeforeDischarge ? kParametersBeforeDischarge
                                       : version == kVersionBeforeTolerance ? kParametersBeforeTolerance
                                                                            : 0;
   const std::size_t record_size = settings_record_size(parameter_count);

@@ -9,6 +9,7 @@ namespace {
 bool from_the_plant(const CanFrame& frame) {
   switch (classify(frame)) {
     case MessageKind::valve_command:
+    case MessageKind::gate_command:
     case MessageKind::indicator_status:
       return false;
     case MessageKind::heartbeat:
@@ -25,7 +26,7 @@ IndicatorNode::IndicatorNode(firmware::Indicator& indicator, ConsolePort& consol
     : indicator_(indicator),
       link_(link),
       heartbeat_jiffies_(options.heartbeat_jiffies),
-      ports_{load_cell_, valve_, console, options.settings, firmware::SettingsSave::none, options.probe} {}
+      ports_{load_cell_, valve_, console, options.settings, firmware::SettingsSave::none, options.probe, nullptr, &gate_} {}
 
 IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
   if (from_the_plant(frame)) heard_since_jiffy_ = plant_heard_ = true;
@@ -37,6 +38,12 @@ IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
       if (!decode(frame, m)) return Heard::ignored;
       valve_.deliver_position(firmware::ValvePosition{m.position});
       return Heard::valve_position;
+    }
+    case MessageKind::gate_feedback: {
+      GateFeedbackMessage m;
+      if (!decode(frame, m)) return Heard::ignored;
+      gate_.deliver_position(firmware::GatePosition{m.position});
+      return Heard::gate_position;
     }
     case MessageKind::heartbeat: {
       HeartbeatMessage m;
@@ -76,6 +83,10 @@ void IndicatorNode::run_jiffy(firmware::LinkStatus link, bool answer) {
   record_ = run_one_jiffy(indicator_, ports_, jiffy_);
   const firmware::Outputs& outputs = record_.outputs;
   if (answer) {
+    // The gate's command before the 0x220 that closes the jiffy for the plant.
+    if (gate_.commanded()) {
+      link_.send(encode(GateCommandMessage{std::uint8_t(gate_.last_command()), outputs.answered_counter}));
+    }
     // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
     link_.send(encode(ValveCommandMessage{std::uint8_t(valve_.last_command()), valve_.last_delay_100us(),
                                           outputs.answered_counter}));
@@ -94,6 +105,10 @@ void IndicatorNode::leave() {
   if (valve_.last_command() != firmware::ValveCommand::closed) {
     valve_.command(firmware::ValveCommand::closed, 0);
     link_.send(encode(ValveCommandMessage{std::uint8_t(firmware::ValveCommand::closed), 0, record_.outputs.answered_counter}));
+  }
+  if (gate_.last_command() != firmware::GateCommand::closed) {
+    gate_.command(firmware::GateCommand::closed);
+    link_.send(encode(GateCommandMessage{std::uint8_t(firmware::GateCommand::closed), record_.outputs.answered_counter}));
   }
   send_heartbeat(kNmtStopped);
 }

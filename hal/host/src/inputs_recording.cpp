@@ -17,8 +17,12 @@ constexpr std::uint8_t kFlagSaveMask = 0x3u << kSaveShift;
 // bits 4-5 (version 2 on): the link's status (firmware::LinkStatus: 0 ok, 1 silent, 2 bus off)
 constexpr unsigned kLinkShift = 4;
 constexpr std::uint8_t kFlagLinkMask = 0x3u << kLinkShift;
+// bits 6-7 (version 3 on): the discharge gate's position (firmware::GatePosition: 0 closed, 1 moving, 3 open)
+constexpr unsigned kGateShift = 6;
+constexpr std::uint8_t kFlagGateMask = 0x3u << kGateShift;
 constexpr std::uint8_t kBitBusy = 0x01;
 constexpr std::uint8_t kBitSettingsChanged = 0x02;
+constexpr std::uint8_t kBitGateOpen = 0x04;  // version 3 on
 constexpr std::size_t kMaxSourceLength = 1024;
 
 // Little-endian encoding, whatever the host's byte order.
@@ -101,6 +105,7 @@ firmware::Inputs RecordedJiffy::inputs() const {
   in.jiffy = jiffy;
   in.load_cell = load_cell;
   in.valve_position = valve_position;
+  in.gate_position = gate_position;
   in.console_rx = console_rx.empty() ? nullptr : console_rx.data();
   in.console_rx_length = console_rx.size();
   in.settings_save = settings_save;
@@ -108,7 +113,7 @@ firmware::Inputs RecordedJiffy::inputs() const {
 }
 
 bool same_outputs(const firmware::Outputs& a, const firmware::Outputs& b, bool telemetry) {
-  const bool acted_on = a.valve == b.valve && a.valve_delay_100us == b.valve_delay_100us &&
+  const bool acted_on = a.valve == b.valve && a.gate == b.gate && a.valve_delay_100us == b.valve_delay_100us &&
                         a.answered_counter == b.answered_counter && a.state == b.state &&
                         a.weight_100mg == b.weight_100mg && a.settings_changed == b.settings_changed &&
                         a.busy == b.busy;
@@ -154,7 +159,8 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
   put_u8(r, j.load_cell.status);
   put_u8(r, std::uint8_t((j.load_cell.fresh ? kFlagFresh : 0) | (j.has_outputs ? kFlagOutputs : 0) |
                          (static_cast<unsigned>(j.settings_save) << kSaveShift) |
-                         (static_cast<unsigned>(j.load_cell.link) << kLinkShift)));
+                         (static_cast<unsigned>(j.load_cell.link) << kLinkShift) |
+                         (static_cast<unsigned>(j.gate_position) << kGateShift)));
   put_u8(r, static_cast<std::uint8_t>(j.valve_position));
   put_u16(r, std::uint16_t(j.console_rx.size()));
   r += j.console_rx;
@@ -165,7 +171,8 @@ void InputsRecordingWriter::write(const RecordedJiffy& j) {
     put_u16(r, o.answered_counter);
     put_u8(r, static_cast<std::uint8_t>(o.state));
     put_u32(r, std::uint32_t(o.weight_100mg));
-    put_u8(r, std::uint8_t((o.busy ? kBitBusy : 0) | (o.settings_changed ? kBitSettingsChanged : 0)));
+    put_u8(r, std::uint8_t((o.busy ? kBitBusy : 0) | (o.settings_changed ? kBitSettingsChanged : 0) |
+                           (o.gate == firmware::GateCommand::open ? kBitGateOpen : 0)));
     put_u32(r, bits_of(o.filtered_g));
     put_u32(r, bits_of(o.net_g));
     put_u32(r, bits_of(o.predicted_g));
@@ -185,6 +192,7 @@ void InputsRecordingWriter::record(const JiffyRecord& jiffy) {
   j.jiffy = jiffy.jiffy;
   j.load_cell = jiffy.load_cell;
   j.valve_position = jiffy.valve_position;
+  j.gate_position = jiffy.gate_position;
   j.console_rx.assign(jiffy.console_rx, jiffy.console_rx_length);
   j.settings_save = jiffy.settings_save;
   j.has_outputs = true;
@@ -259,16 +267,19 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
   const std::uint8_t position = in.u8("a record");
   const unsigned save = (flags & kFlagSaveMask) >> kSaveShift;
   const unsigned link = (flags & kFlagLinkMask) >> kLinkShift;
-  const std::uint8_t known_flags = version_ >= 2 ? kFlagFresh | kFlagOutputs | kFlagSaveMask | kFlagLinkMask
-                                                 : kFlagFresh | kFlagOutputs | kFlagSaveMask;
+  const unsigned gate = (flags & kFlagGateMask) >> kGateShift;
+  const std::uint8_t known_flags = version_ >= 3   ? kFlagFresh | kFlagOutputs | kFlagSaveMask | kFlagLinkMask | kFlagGateMask
+                                   : version_ >= 2 ? kFlagFresh | kFlagOutputs | kFlagSaveMask | kFlagLinkMask
+                                                   : kFlagFresh | kFlagOutputs | kFlagSaveMask;
   if ((flags & ~known_flags) != 0 || position > 3 || save > static_cast<unsigned>(firmware::SettingsSave::failed) ||
-      link > static_cast<unsigned>(firmware::LinkStatus::bus_off)) {
+      link > static_cast<unsigned>(firmware::LinkStatus::bus_off) || gate == 2) {
     throw std::runtime_error(where + " is damaged (bad flags)");
   }
   j.settings_save = static_cast<firmware::SettingsSave>(save);
   j.load_cell.link = static_cast<firmware::LinkStatus>(link);
   j.load_cell.fresh = (flags & kFlagFresh) != 0;
   j.valve_position = static_cast<firmware::ValvePosition>(position);
+  j.gate_position = static_cast<firmware::GatePosition>(gate);
   const std::uint16_t rx_length = in.u16("a record");
   if (rx_length > kMaxRecordedRxBytes) throw std::runtime_error(where + " is damaged (console input too long)");
   j.console_rx = in.bytes(rx_length, "a record");
@@ -281,13 +292,15 @@ bool InputsRecordingReader::next(RecordedJiffy& j) {
     const std::uint8_t state = in.u8("a record");
     o.weight_100mg = std::int32_t(in.u32("a record"));
     const std::uint8_t bits = in.u8("a record");
-    if (valve > 2 || state > 3 || (bits & ~(kBitBusy | kBitSettingsChanged)) != 0) {
+    const std::uint8_t known_bits = version_ >= 3 ? kBitBusy | kBitSettingsChanged | kBitGateOpen : kBitBusy | kBitSettingsChanged;
+    if (valve > 2 || state > 3 || (bits & ~known_bits) != 0) {
       throw std::runtime_error(where + " is damaged (bad outputs)");
     }
     o.valve = static_cast<firmware::ValveCommand>(valve);
     o.state = static_cast<firmware::IndicatorState>(state);
     o.busy = (bits & kBitBusy) != 0;
     o.settings_changed = (bits & kBitSettingsChanged) != 0;
+    o.gate = (bits & kBitGateOpen) != 0 ? firmware::GateCommand::open : firmware::GateCommand::closed;
     if (version_ >= 2) {
       o.filtered_g = float_of(in.u32("a record"));
       o.net_g = float_of(in.u32("a record"));

@@ -23,6 +23,14 @@ firmware::ValvePosition SimulatedValve::position() const {
   return plant_.valve_feedback();
 }
 
+void SimulatedGate::command(firmware::GateCommand command) {
+  plant_.command_gate(command == firmware::GateCommand::open ? sim::GateCommand::open : sim::GateCommand::closed);
+}
+
+firmware::GatePosition SimulatedGate::position() const {
+  return firmware::GatePosition{static_cast<std::uint8_t>(plant_.gate_feedback())};
+}
+
 firmware::PersistentSettings factory_settings(const sim::Plant& plant) {
   firmware::PersistentSettings settings;
   const double empty_counts = plant.empty_counts();

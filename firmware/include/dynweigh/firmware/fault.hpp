@@ -7,7 +7,7 @@ namespace dynweigh::firmware {
 // this long ends in a fault, so the dosing cycle closes before it would be).
 inline constexpr float kStaleSampleLimitMs = 100.0f;
 
-// Why the indicator stopped. Latched until `clearfault`; the valve stays closed meanwhile.
+// Why the indicator stopped. Latched until `clearfault`; the valve and the gate stay closed meanwhile.
 enum class Fault : std::uint8_t {
   none = 0,
   overload,       // load cell reports overload, or the weight is above the scale's maximum
@@ -28,6 +28,10 @@ enum class Fault : std::uint8_t {
   bus_off,      // the transport went bus-off (or its link down): no command reaches the valve
   // The board's settings storage (io.hpp SettingsSave):
   nvm_error,  // a save of calibration or parameters failed: they hold only until power is lost
+  // The discharge cycle's (discharge_cycle.hpp):
+  gate_not_open,    // commanded open, the gate's feedback did not say open within its stroke limit
+  gate_not_closed,  // commanded closed, the gate's feedback did not say closed within its stroke limit
+  not_empty,        // the gate open, the hopper did not empty within discharge_timeout_s
 };
 
 const char* fault_name(Fault fault);

@@ -6,15 +6,16 @@
 // A jiffy runs six stages, in this order (step() reads so): sense (the console's bytes, the load
 // cell's sample on the scale), supervise (every fault; a fault closes the valve in this very jiffy),
 // command (the queued console lines, a zero or span waiting for standstill), dose (the dosing cycle
-// and what follows its result), actuate (the valve command in force) and report (the recorder, the
+// and what follows its result, the discharge), actuate (the valve and gate commands in force) and report (the recorder, the
 // listings being printed, the Outputs). The parts: the console (console.hpp, the commands in
 // console_commands.cpp and the *_commands.cpp beside it), the scale (scale.hpp), the fault
 // supervisor (fault_supervisor.hpp), the dosing cycle (dosing_cycle.hpp) and its tolerance
-// follow-up (tolerance_follow_up.hpp).
+// follow-up (tolerance_follow_up.hpp), the discharge cycle (discharge_cycle.hpp).
 #include <cstddef>
 #include <cstdint>
 
 #include "dynweigh/firmware/console.hpp"
+#include "dynweigh/firmware/discharge_cycle.hpp"
 #include "dynweigh/firmware/dosing_cycle.hpp"
 #include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/fault_supervisor.hpp"
@@ -62,7 +63,7 @@ class Indicator {
   bool busy() const;
 
   // What the indicator is doing, as `status` names it; the Outputs' state shows `hold` as settling.
-  enum class Activity : std::uint8_t { idle, dosing, settling, hold, fault };
+  enum class Activity : std::uint8_t { idle, dosing, settling, hold, fault, discharging };
   Activity activity() const;
   static const char* activity_name(Activity activity);
   static IndicatorState state_of(Activity activity);
@@ -125,6 +126,9 @@ class Indicator {
   void write_fill_line_start(const char* tag);
   void write_verdict_fields();
   ValveCommand advance_test_cycle();
+  // The discharge and its answer (discharge_commands.cpp).
+  void start_discharge();
+  void advance_discharge();
   void continue_print();
   void continue_log_print();
 
@@ -138,12 +142,14 @@ class Indicator {
   Fault fault_ = Fault::none;  // latched until `clearfault`
   DosingCycle dosing_;
   ToleranceFollowUp follow_up_;
+  DischargeCycle discharge_;
 
   // A dose's command and result.
   bool dose_command_pending_ = false;  // `dose` answers when it ends
   DoseResult concluding_;  // the certified result being judged, topped up or held
   ToleranceVerdict verdict_ = ToleranceVerdict::ok;
   std::uint32_t doses_started_ = 0;
+  bool discharge_command_pending_ = false;  // `discharge` (or an auto-discharging `dose`) answers when it ends
 
   // The records: logbook, totalizers, test data.
   Logbook* logbook_ = nullptr;
@@ -166,6 +172,8 @@ class Indicator {
   ValveCommand manual_valve_ = ValveCommand::closed;
   ValveCommand valve_ = ValveCommand::closed;
   std::uint8_t valve_delay_100us_ = 0;  // how far into its jiffy valve_ acts
+  GateCommand gate_ = GateCommand::closed;
+  GatePosition gate_position_ = GatePosition::closed;  // this jiffy's feedback
 };
 
 }  // namespace dynweigh::firmware

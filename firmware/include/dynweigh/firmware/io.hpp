@@ -12,6 +12,8 @@
 namespace dynweigh::firmware {
 
 // The plant link's values (valve command and position, status bits, state) are the schema's.
+using schema::GateCommand;
+using schema::GatePosition;
 using schema::IndicatorState;
 using schema::kLoadCellAdcError;
 using schema::kLoadCellOverload;
@@ -43,6 +45,7 @@ struct Inputs {
   std::uint32_t jiffy = 0;
   LoadCellInput load_cell;
   ValvePosition valve_position = ValvePosition::closed;
+  GatePosition gate_position = GatePosition::closed;  // a board without a gate reports it closed
   const char* console_rx = nullptr;  // bytes that arrived since the last jiffy
   std::size_t console_rx_length = 0;
   SettingsSave settings_save = SettingsSave::none;
@@ -54,6 +57,7 @@ inline constexpr std::int32_t kWeightUnknown100mg = INT32_MIN;
 
 struct Outputs {
   ValveCommand valve = ValveCommand::closed;
+  GateCommand gate = GateCommand::closed;  // the discharge gate (0x228); a board without one ignores it
   std::uint8_t valve_delay_100us = 0;  // 0x220 (docs/can-protocol.md): apply the command this much into the jiffy
   std::uint16_t answered_counter = 0;  // the sample this jiffy answers
   IndicatorState state = IndicatorState::idle;

@@ -45,6 +45,9 @@ enum class ParameterId : std::uint8_t {
   tol_action,
   topup_max,
   topup_ms,
+  auto_discharge,
+  empty_band_g,
+  discharge_timeout_s,
   count
 };
 

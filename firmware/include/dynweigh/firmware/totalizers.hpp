@@ -11,7 +11,7 @@ namespace dynweigh::firmware {
 struct Totalizers {
   float total_g = 0.0f;
   std::uint32_t valve_cycles = 0;    // the dosing valve opened from closed
-  std::uint32_t gate_cycles = 0;     // a discharge gate's (none on this build)
+  std::uint32_t gate_cycles = 0;     // the discharge gate opened from closed
   std::uint32_t dosing_jiffies = 0;  // a dose or a top-up running
   std::uint32_t after_sequence = 0;  // the statistics read logbook records after this one
 

@@ -19,6 +19,7 @@ struct Ports {
   firmware::SettingsSave save_report = firmware::SettingsSave::none;
   StepProbe* probe = nullptr;
   JiffyRecorder* recorder = nullptr;  // every jiffy's record goes here too, if set (dynweigh-fw --record)
+  GatePort* gate = nullptr;  // the discharge gate; without one it reads closed and commands go nowhere
 };
 
 // One jiffy: read the ports, step the indicator, apply its outputs, and say what happened.
@@ -27,6 +28,7 @@ inline JiffyRecord run_one_jiffy(firmware::Indicator& indicator, Ports& ports, s
   record.jiffy = jiffy;
   record.load_cell = ports.load_cell.read_sample();
   record.valve_position = ports.valve.position();
+  record.gate_position = ports.gate ? ports.gate->position() : firmware::GatePosition::closed;
   record.console_rx_length = ports.console.read(record.console_rx, sizeof record.console_rx);
   record.settings_save = ports.save_report;
   if (ports.probe) ports.probe->before_step();
@@ -34,6 +36,7 @@ inline JiffyRecord run_one_jiffy(firmware::Indicator& indicator, Ports& ports, s
   if (ports.probe) ports.probe->after_step(record.outputs);
   const firmware::Outputs& outputs = record.outputs;
   ports.valve.command(outputs.valve, outputs.valve_delay_100us);
+  if (ports.gate) ports.gate->command(outputs.gate);
   char tx[512];
   for (std::size_t room, n; (room = ports.console.writable()) > 0 &&
                             (n = indicator.drain_console(tx, room < sizeof tx ? room : sizeof tx)) > 0;) {

@@ -20,6 +20,7 @@ struct JiffyRecord {
   std::uint32_t jiffy = 0;
   firmware::LoadCellInput load_cell;
   firmware::ValvePosition valve_position = firmware::ValvePosition::closed;
+  firmware::GatePosition gate_position = firmware::GatePosition::closed;
   firmware::SettingsSave settings_save = firmware::SettingsSave::none;
   char console_rx[kConsoleRxBytes] = {};
   std::size_t console_rx_length = 0;
@@ -33,6 +34,7 @@ struct JiffyRecord {
     in.jiffy = jiffy;
     in.load_cell = load_cell;
     in.valve_position = valve_position;
+    in.gate_position = gate_position;
     in.console_rx = console_rx;
     in.console_rx_length = console_rx_length;
     in.settings_save = settings_save;

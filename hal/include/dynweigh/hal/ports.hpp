@@ -1,5 +1,5 @@
 #pragma once
-// The hardware the indicator needs, as five small ports. A target implements each; the control
+// The hardware the indicator needs, as small ports. A target implements each; the control
 // loop (control_loop.hpp) is the same on all of them. Thin virtual interfaces at the edge: one
 // indirect call per port per jiffy, and no RTTI needed.
 #include <cstddef>
@@ -34,6 +34,15 @@ class ValvePort {
   virtual ~ValvePort() = default;
   virtual void command(firmware::ValveCommand command, std::uint8_t delay_100us) = 0;
   virtual firmware::ValvePosition position() const = 0;
+};
+
+// The discharge gate under the weigh hopper: a command (closed, open) and the position its module
+// reports. Optional: a board without one reports it closed and ignores the commands.
+class GatePort {
+ public:
+  virtual ~GatePort() = default;
+  virtual void command(firmware::GateCommand command) = 0;
+  virtual firmware::GatePosition position() const = 0;
 };
 
 // The serial console: a byte stream in both directions, never blocking.

@@ -11,6 +11,12 @@ enum class ValveCommand : std::uint8_t { closed = 0, half = 1, open = 2 };
 // 0x1A0 byte 0: where the valve module says the valve is.
 enum class ValvePosition : std::uint8_t { closed = 0, moving = 1, half = 2, open = 3 };
 
+// 0x228 byte 0: what the indicator asks of the discharge gate module (no half position).
+enum class GateCommand : std::uint8_t { closed = 0, open = 2 };
+
+// 0x1A8 byte 0: where the discharge gate module says the gate is.
+enum class GatePosition : std::uint8_t { closed = 0, moving = 1, open = 3 };
+
 // 0x190 byte 6: the load cell's converter status bits.
 inline constexpr std::uint8_t kLoadCellOverload = 0x01;
 inline constexpr std::uint8_t kLoadCellUnderload = 0x02;

@@ -4,7 +4,9 @@
 // on a UART) are adapters around it that bring a transport and a clock.
 //
 // One jiffy per 0x190 sample, through hal::run_one_jiffy; each is answered with exactly one 0x220
-// valve command carrying the sample's counter, then the 0x181 status. Samples are put in order by
+// valve command carrying the sample's counter, then the 0x181 status. Once the indicator has first
+// commanded the discharge gate open, every answer is preceded by a 0x228 gate command with the same
+// counter (a plant without a gate node never hears one; 0x1A8 feedback is read whenever it comes). Samples are put in order by
 // their counter (sample_sequence.hpp): a duplicate runs no jiffy, a late one is discarded, a lost
 // one is a jiffy without a sample and without an answer (the plant no longer waits for it). When
 // the board's clock says the link has gone quiet, the board asks for a jiffy without a sample; the
@@ -67,6 +69,25 @@ class CanValve final : public ValvePort {
   firmware::ValvePosition position_ = firmware::ValvePosition::closed;
 };
 
+// The discharge gate as 0x228 out (sent by the node, once the gate has first been opened) and 0x1A8 in.
+class CanGate final : public GatePort {
+ public:
+  void command(firmware::GateCommand command) override {
+    command_ = command;
+    if (command != firmware::GateCommand::closed) commanded_ = true;
+  }
+  firmware::GatePosition position() const override { return position_; }
+  void deliver_position(firmware::GatePosition position) { position_ = position; }
+  firmware::GateCommand last_command() const { return command_; }
+  // The gate has been opened at least once: from then on its command goes out every jiffy.
+  bool commanded() const { return commanded_; }
+
+ private:
+  firmware::GateCommand command_ = firmware::GateCommand::closed;
+  firmware::GatePosition position_ = firmware::GatePosition::closed;
+  bool commanded_ = false;
+};
+
 struct IndicatorNodeOptions {
   SettingsStore* settings = nullptr;  // nothing persists without one
   // A 0x701 heartbeat after every this many jiffies; 0: the board sends heartbeats by its clock.
@@ -79,7 +100,7 @@ class IndicatorNode {
   // What a received frame did. `sample`: a jiffy ran on it (after any for lost samples);
   // `repeated_sample`: a duplicate or late 0x190, no jiffy; `ignored`: our own frames echoed by a
   // bus, other nodes' heartbeats, malformed frames.
-  enum class Heard { sample, repeated_sample, valve_position, plant_stopped, ignored };
+  enum class Heard { sample, repeated_sample, valve_position, gate_position, plant_stopped, ignored };
 
   IndicatorNode(firmware::Indicator& indicator, ConsolePort& console, CanLink& link,
                 const IndicatorNodeOptions& options = {});
@@ -90,7 +111,7 @@ class IndicatorNode {
   // A jiffy without a sample: the board's clock says the sample is late, or the bus went off.
   void run_without_sample();
   void send_heartbeat(std::uint8_t nmt_state);
-  // The indicator goes away: a valve it left open is commanded closed at once (not left to the
+  // The indicator goes away: a valve (or gate) it left open is commanded closed at once (not left to the
   // valve module's 50 ms watchdog), then the heartbeat says NMT stopped.
   void leave();
 
@@ -118,6 +139,7 @@ class IndicatorNode {
   std::uint32_t heartbeat_jiffies_;
   CanLoadCell load_cell_;
   CanValve valve_;
+  CanGate gate_;
   Ports ports_;
   SampleSequence sequence_;
   bool plant_heard_ = false;

@@ -10,19 +10,21 @@
 // carries the Outputs and console bytes the live run produced, so a replay can prove it matched
 // instead of asserting it.
 //
-// File format, little-endian throughout. Version 2 (written now):
+// File format, little-endian throughout. Version 3 (written now):
 //   header  "dynweigh-inputs\n" (16 bytes), u32 version, u32 settings size, the settings record
 //           (firmware::encode_settings: magic, version, CRC), u16 source length, source text
 //           (a free note: which program and plant made it), u32 the last result's sequence number
 //           when the recording began, u32 CRC-32 of the header so far
 //   jiffy   u8 'J', u32 jiffy, i32 raw counts, u16 sample counter, u8 status, u8 flags
 //           (bit0 fresh sample, bit1 outputs follow, bits 2-3 the last save: 0 none, 1 saved,
-//           2 failed, bits 4-5 the link: 0 ok, 1 silent, 2 bus off), u8 valve position,
+//           2 failed, bits 4-5 the link: 0 ok, 1 silent, 2 bus off, bits 6-7 the discharge gate's
+//           position: 0 closed, 1 moving, 3 open), u8 valve position,
 //           u16 rx length, rx bytes,
 //           [outputs: u8 valve, u8 delay_100us, u16 answered counter, u8 state, i32 weight_100mg,
-//           u8 bits (bit0 busy, bit1 settings_changed), f32 filtered_g, f32 net_g, f32 predicted_g,
+//           u8 bits (bit0 busy, bit1 settings_changed, bit2 gate commanded open), f32 filtered_g, f32 net_g, f32 predicted_g,
 //           u8 fault, u32 tx length, tx bytes],
 //           u32 CRC-32 of the record from 'J' on
+// Version 2 (still read): no gate bits (the gate closed, never commanded open).
 // Version 1 (still read): no sequence number in the header, no link bits (always ok), and the
 // outputs without the four telemetry fields.
 // A file ends after its last complete record; a file that ends inside a record is truncated.
@@ -37,7 +39,7 @@ namespace dynweigh::hal::host {
 
 inline constexpr char kInputsRecordingMagic[] = "dynweigh-inputs\n";
 inline constexpr std::size_t kInputsRecordingMagicLength = 16;
-inline constexpr std::uint32_t kInputsRecordingVersion = 2;
+inline constexpr std::uint32_t kInputsRecordingVersion = 3;
 inline constexpr std::uint32_t kOldestInputsRecordingVersion = 1;
 // Bounds a reader enforces so a damaged file is reported, never believed: a jiffy's console input
 // cannot exceed what a board reads in one jiffy by much, nor its output the indicator's ring.
@@ -48,6 +50,7 @@ struct RecordedJiffy {
   std::uint32_t jiffy = 0;
   firmware::LoadCellInput load_cell;
   firmware::ValvePosition valve_position = firmware::ValvePosition::closed;
+  firmware::GatePosition gate_position = firmware::GatePosition::closed;
   std::string console_rx;
   firmware::SettingsSave settings_save = firmware::SettingsSave::none;
   bool has_outputs = false;    // what the live run decided, for checking a replay

@@ -53,6 +53,7 @@ class LockstepSession {
   sim::Plant plant_;
   SimulatedLoadCell load_cell_;
   SimulatedValve valve_;
+  SimulatedGate gate_;
   firmware::Indicator indicator_;
   SettingsStore* store_;
   firmware::RamLogbook<kRamLogbookSlots> ram_logbook_;  // without a store's

@@ -1,5 +1,5 @@
 #pragma once
-// The load cell and valve ports of the host board, wired to an in-process plant. Lockstep: the
+// The load cell, valve and gate ports of the host board, wired to an in-process plant. Lockstep: the
 // plant advances one jiffy per control-loop iteration, as fast as the CPU allows.
 #include "dynweigh/firmware/persistent_settings.hpp"
 #include "dynweigh/hal/ports.hpp"
@@ -25,6 +25,17 @@ class SimulatedValve final : public ValvePort {
  private:
   sim::Plant& plant_;
   double jiffy_s_;
+};
+
+// The plant's discharge gate: commands and feedback at once (its module has no sub-jiffy delay).
+class SimulatedGate final : public GatePort {
+ public:
+  explicit SimulatedGate(sim::Plant& plant) : plant_(plant) {}
+  void command(firmware::GateCommand command) override;
+  firmware::GatePosition position() const override;
+
+ private:
+  sim::Plant& plant_;
 };
 
 // An indicator freshly calibrated to this plant (docs/programs.md: "starts calibrated to the simulated plant").
