@@ -44,7 +44,11 @@ constexpr CommandSpec kCommands[] = {
     {"accept", "accept  take the held result as it is (logged with its tolerance verdict)", &ConsoleCommands::accept},
     {"topup", "topup  a top-up pulse for the held result under its target, then judged again", &ConsoleCommands::topup},
     {"log", "log [<n>] | log <from> <to>  the logbook: the last n results (10), or by sequence number", &ConsoleCommands::log},
-    {"stats", "stats [0] | stats reset  the material's last 100 fills and the totalizers", &ConsoleCommands::stats},
+    {"material", "material [<n> [name <s> | density <kg/m^3> | class <x>]]  list, select (n 0..15) or edit the "
+     "materials (persists)",
+     &ConsoleCommands::material},
+    {"stats", "stats [<n>] | stats reset [<n>]  a material's last 100 fills and totalizers (default: the selected)",
+     &ConsoleCommands::stats},
     {"help", "help  this list", &ConsoleCommands::help},
     {"version", "version  firmware version", &ConsoleCommands::version},
 };

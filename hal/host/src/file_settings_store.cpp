@@ -56,7 +56,7 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset) {
   if (!exists || reset) {
     erase(fd, path);
     state = exists ? NvmFile::erased : NvmFile::created;
-  } else if (st.st_size == off_t(kSettingsOnlyFileBytes)) {
+  } else if (st.st_size == off_t(kSettingsOnlyFileBytes) || st.st_size == off_t(kVersion5FileBytes)) {
     grow(fd, path, std::size_t(st.st_size));
   } else if (st.st_size != off_t(kNvmFileBytes)) {
     state = NvmFile::wrong_size;
