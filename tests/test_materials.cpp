@@ -222,6 +222,37 @@ TEST(MaterialStatistics, TotalizersSurviveARestartWithTheSameNvmFile) {
   EXPECT_EQ(after, before);
 }
 
+// A version-5 --nvm file (its settings slots smaller than today's, the logbook right behind them):
+// grown on start, its logbook moved behind today's slots, every record still readable.
+TEST(MaterialStatistics, AVersion5NvmFilesLogbookIsMovedAndKept) {
+  TempFile file;
+  constexpr std::size_t kOldLogbook = hal::host::kVersion5FileBytes - hal::host::kFileLogbookSlots * firmware::kLogRecordSize;
+  std::vector<std::uint8_t> bytes(hal::host::kVersion5FileBytes, 0xFF);
+  for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+    firmware::LogRecord r;
+    r.sequence = seq;
+    r.target_dg = 3000;
+    r.final_dg = 3000 + 10 * std::int32_t(seq);
+    firmware::encode_log_record(r, bytes.data() + kOldLogbook + (seq - 1) * firmware::kLogRecordSize);
+  }
+  {
+    std::FILE* f = std::fopen(file.path().c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
+    std::fclose(f);
+  }
+  EXPECT_EQ(hal::host::prepare_nvm_file(file.path(), false), hal::host::NvmFile::sized);
+  hal::host::FileSettingsStore store(file.path());
+  ASSERT_EQ(store.logbook()->last_sequence(), 3u);
+  for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+    firmware::LogRecord r;
+    ASSERT_TRUE(store.logbook()->read(seq, r)) << seq;
+    EXPECT_EQ(r.final_dg, 3000 + 10 * std::int32_t(seq));
+  }
+  firmware::MaterialTotals totals;
+  EXPECT_FALSE(store.totalizers()->load(totals));  // erased: counted from here on
+}
+
 firmware::MaterialTotals totals_generation(std::uint32_t n) {
   firmware::MaterialTotals t;
   for (std::size_t m = 0; m < firmware::MaterialTable::kMaterials; ++m) {

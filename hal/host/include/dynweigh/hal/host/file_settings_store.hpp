@@ -11,9 +11,9 @@
 namespace dynweigh::hal::host {
 
 // The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
-// fewer kept), then the materials' totalizers' two slots. A file of an older version (the settings
-// alone, kSettingsOnlyFileBytes; or version-5 settings and the logbook, kVersion5FileBytes) is
-// grown: its settings load, its logbook (which lay elsewhere) is not read.
+// fewer kept), then the materials' totalizers' two slots. A file of an older version is grown: the
+// settings alone (kSettingsOnlyFileBytes), or version-5 settings and the logbook (kVersion5FileBytes,
+// whose logbook is moved behind today's larger settings slots); its settings load as they are.
 inline constexpr std::size_t kFileLogbookSlots = 1001;
 inline constexpr std::size_t kFileLogbookOffset = firmware::kSettingsSlotsBytes;
 inline constexpr std::size_t kFileTotalizersOffset = kFileLogbookOffset + kFileLogbookSlots * firmware::kLogRecordSize;
