@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "dynweigh/firmware/settings_slots.hpp"
@@ -18,12 +19,22 @@ using firmware::ParameterId;
 using hal::host::CuttableNvm;
 using hal::host::SlottedSettingsStore;
 
-// Generation `n` of the settings: every field that persists differs from the other generations.
+// The material generation `n` names and selects (1..15), and its name.
+std::size_t generation_material(int n) { return std::size_t(n % 15 + 1); }
+std::string generation_material_name(int n) { return "grain-" + std::to_string(n); }
+
+// Generation `n` of the settings: every field that persists differs from the other generations,
+// the material table too (a material named, given a density and class, and selected).
 PersistentSettings generation(int n) {
   PersistentSettings s;
   s.calibration = {8000 + n, 0.0f, 1.0f + 0.01f * float(n), true, true};
   s.parameters.set(ParameterId::fall_mm, 1000.0f + float(n));
   s.parameters.set(ParameterId::preact_g, 100.0f + float(n));
+  const std::size_t m = generation_material(n);
+  s.materials.rename(m, generation_material_name(n).c_str());
+  s.materials.set_density(m, 700.0f + float(n));
+  s.materials.set_class(m, 0.5f);
+  s.materials.select(m, s.parameters);
   return s;
 }
 
@@ -33,6 +44,15 @@ void expect_generation(const PersistentSettings& s, int n) {
   EXPECT_TRUE(s.calibration.valid());
   EXPECT_FLOAT_EQ(s.parameters.get(ParameterId::fall_mm), 1000.0f + float(n));
   EXPECT_FLOAT_EQ(s.parameters.get(ParameterId::preact_g), 100.0f + float(n));
+  const std::size_t m = generation_material(n);
+  EXPECT_EQ(s.materials.selected(), m);
+  EXPECT_STREQ(s.materials.at(m).name, generation_material_name(n).c_str());
+  EXPECT_FLOAT_EQ(s.materials.at(m).density, 700.0f + float(n));
+  EXPECT_FLOAT_EQ(s.materials.at(m).class_x, 0.5f);
+  EXPECT_FLOAT_EQ(s.parameters.get(ParameterId::density), 700.0f + float(n));  // the selected one's
+  EXPECT_FLOAT_EQ(s.parameters.get(ParameterId::oiml_class), 0.5f);
+  EXPECT_TRUE(s.materials.at(0).defined);
+  EXPECT_STREQ(s.materials.at(0).name, "material0");
 }
 
 // True when the slot at `slot` holds exactly generation `n` with `sequence`: a cut that came after
@@ -200,53 +220,74 @@ TEST(SettingsSlots, RepeatedCutsKeepTheLastCompletedGeneration) {
 namespace dynweigh {
 namespace {
 
-// A version-4 settings record (before the tolerance parameters) made from today's: the same layout
-// with the parameters from `class` on left out.
-constexpr std::size_t kParametersV4 = static_cast<std::size_t>(ParameterId::oiml_class);
-constexpr std::size_t kRecordV4 = firmware::settings_record_size(kParametersV4);
-constexpr std::size_t kSlotV4 = firmware::kSlotHeaderSize + kRecordV4;
-
-std::vector<std::uint8_t> version4_slot(const PersistentSettings& s, std::uint32_t sequence) {
+// An older settings record made from today's: version 5 is today's layout without the material
+// table at its end; version 4 also without the parameters from `class` on.
+std::vector<std::uint8_t> older_slot(const PersistentSettings& s, std::uint32_t sequence, int version) {
+  const std::size_t kept_parameters = version == 4 ? firmware::kParametersV4 : firmware::kParametersV5;
+  const std::size_t record_size = version == 4 ? firmware::kSettingsRecordSizeV4 : firmware::kSettingsRecordSizeV5;
   std::vector<std::uint8_t> now(firmware::kSlotSize);
   firmware::encode_slot(s, sequence, now.data(), now.size());
   const std::uint8_t* record = now.data() + firmware::kSlotHeaderSize;
-  const std::size_t dropped = 4 * (firmware::kParameterCount - kParametersV4);
-  const std::size_t tail = 28 + 4 * kParametersV4;  // header, calibration and the v4 parameters
+  const std::size_t dropped = 4 * (firmware::kParameterCount - kept_parameters);
+  const std::size_t tail = 28 + 4 * kept_parameters;  // header, calibration and the kept parameters
   std::vector<std::uint8_t> slot(now.begin(), now.begin() + firmware::kSlotHeaderSize);
   slot.insert(slot.end(), record, record + tail);
-  slot.insert(slot.end(), record + tail + dropped, record + firmware::kSettingsRecordSize);
+  slot.insert(slot.end(), record + tail + dropped, record + firmware::kSettingsRecordSize - firmware::kMaterialTableBytes);
+  EXPECT_EQ(slot.size(), firmware::kSlotHeaderSize + record_size);
   std::uint8_t* r = slot.data() + firmware::kSlotHeaderSize;
   auto put = [](std::uint8_t* p, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
   };
-  r[4] = 4;
-  r[6] = std::uint8_t(kParametersV4);
-  put(r + 8, std::uint32_t(kRecordV4));
-  put(r + 12, firmware::crc32(r + 16, kRecordV4 - 16) ^ firmware::crc32(r, 12));
-  put(slot.data() + 8, std::uint32_t(kRecordV4));
-  put(slot.data() + 12, firmware::crc32(slot.data() + 4, 8) ^ firmware::crc32(r, kRecordV4));
+  r[4] = std::uint8_t(version);
+  r[6] = std::uint8_t(kept_parameters);
+  put(r + 8, std::uint32_t(record_size));
+  put(r + 12, firmware::crc32(r + 16, record_size - 16) ^ firmware::crc32(r, 12));
+  put(slot.data() + 8, std::uint32_t(record_size));
+  put(slot.data() + 12, firmware::crc32(slot.data() + 4, 8) ^ firmware::crc32(r, record_size));
   return slot;
 }
 
-TEST(SettingsSlots, AVersion4FileLoadsWithTheToleranceParametersAtTheirDefaults) {
+// An older record knows no materials: material 0, selected, takes the density and class it holds.
+void expect_one_material_from_the_parameters(const PersistentSettings& loaded) {
+  EXPECT_EQ(loaded.materials.selected(), 0u);
+  EXPECT_TRUE(loaded.materials.at(0).defined);
+  EXPECT_STREQ(loaded.materials.at(0).name, "material0");
+  EXPECT_FLOAT_EQ(loaded.materials.at(0).density, loaded.parameters.get(ParameterId::density));
+  EXPECT_FLOAT_EQ(loaded.materials.at(0).class_x, loaded.parameters.get(ParameterId::oiml_class));
+  for (std::size_t n = 1; n < firmware::MaterialTable::kMaterials; ++n) EXPECT_FALSE(loaded.materials.at(n).defined) << n;
+}
+
+void load_older_file(int version) {
+  const std::size_t slot_size = version == 4 ? firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV4
+                                             : firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV5;
   for (std::size_t newest : {0u, 1u}) {
     CuttableNvm nvm(firmware::kSettingsSlotsBytes);
     for (std::size_t slot = 0; slot < 2; ++slot) {
-      const auto image = version4_slot(generation(int(slot) + 1), std::uint32_t(slot == newest ? 9 : 8));
-      std::copy(image.begin(), image.end(), nvm.bytes().begin() + std::ptrdiff_t(slot * kSlotV4));
+      const auto image = older_slot(generation(int(slot) + 1), std::uint32_t(slot == newest ? 9 : 8), version);
+      std::copy(image.begin(), image.end(), nvm.bytes().begin() + std::ptrdiff_t(slot * slot_size));
     }
     SlottedSettingsStore store(nvm);
     PersistentSettings loaded;
-    ASSERT_TRUE(store.load(loaded)) << "newest in slot " << newest;
-    expect_generation(loaded, int(newest) + 1);
-    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::oiml_class), 1.0f);
-    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::tol_action), 0.0f);
+    ASSERT_TRUE(store.load(loaded)) << "version " << version << ", newest in slot " << newest;
+    const int n = int(newest) + 1;
+    EXPECT_EQ(loaded.calibration.zero_counts, 8000 + n);
+    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::fall_mm), 1000.0f + float(n));
+    EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::density), 700.0f + float(n));  // as it was stored
+    expect_one_material_from_the_parameters(loaded);
+    if (version == 4) {
+      EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::oiml_class), 1.0f);
+      EXPECT_FLOAT_EQ(loaded.parameters.get(ParameterId::tol_action), 0.0f);
+    }
     // The next save writes today's layout, and that is what loads from then on.
     ASSERT_TRUE(store.save(generation(7)));
     ASSERT_TRUE(store.load(loaded));
     expect_generation(loaded, 7);
   }
 }
+
+TEST(SettingsSlots, AVersion5FileLoadsWithMaterialZeroFromItsParameters) { load_older_file(5); }
+
+TEST(SettingsSlots, AVersion4FileLoadsWithTheToleranceParametersAtTheirDefaults) { load_older_file(4); }
 
 }  // namespace
 }  // namespace dynweigh

@@ -46,7 +46,11 @@ constexpr CommandSpec kCommands[] = {
     {"discharge", "discharge  empty the hopper through the gate (open, empty and stable, closed: proven)",
      &ConsoleCommands::discharge},
     {"log", "log [<n>] | log <from> <to>  the logbook: the last n results (10), or by sequence number", &ConsoleCommands::log},
-    {"stats", "stats [0] | stats reset  the material's last 100 fills and the totalizers", &ConsoleCommands::stats},
+    {"material", "material [<n> [name <s> | density <kg/m^3> | class <x>]]  list, select (n 0..15) or edit the "
+     "materials (persists)",
+     &ConsoleCommands::material},
+    {"stats", "stats [<n>] | stats reset [<n>]  a material's last 100 fills and totalizers (default: the selected)",
+     &ConsoleCommands::stats},
     {"help", "help  this list", &ConsoleCommands::help},
     {"version", "version  firmware version", &ConsoleCommands::version},
 };

@@ -2,7 +2,7 @@
 // The console's commands: one table (console_commands.cpp) whose usage lines `help` prints, and the
 // handlers grouped by what they act on: the dose and its result (dosing_commands.cpp,
 // fill_conclusion.cpp), the test data (test_data_commands.cpp), the scale (scale_commands.cpp), the
-// settings (settings_commands.cpp), the logbook (logbook_commands.cpp). A friend of the Indicator:
+// settings (settings_commands.cpp), the logbook (logbook_commands.cpp), the materials (material_commands.cpp). A friend of the Indicator:
 // the handlers act on its parts, and its own API stays the step.
 #include <cstddef>
 
@@ -54,6 +54,8 @@ struct ConsoleCommands {
   static void learn(Indicator& indicator, const Arguments& args);
   // The logbook (logbook_commands.cpp).
   static void log(Indicator& indicator, const Arguments& args);
+  // The material table and each material's statistics (material_commands.cpp).
+  static void material(Indicator& indicator, const Arguments& args);
   static void stats(Indicator& indicator, const Arguments& args);
 };
 

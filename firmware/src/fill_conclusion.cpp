@@ -74,12 +74,15 @@ void Indicator::report_result() {
   record.jiffy = jiffy_;
   record.target_dg = concluding_.target_g * 10;
   record.final_dg = concluding_.final_g * 10;
-  record.material = 0;
+  record.material = std::uint8_t(settings_.materials.selected());
   record.tolerance = verdict_;
   record.topups = follow_up_.topups();
   const bool logged = !logbook_ || logbook_->append(record);
   if (logged) last_sequence_ = logbook_ ? record.sequence : last_sequence_ + 1;
-  totals_.total_g += float(concluding_.final_g);
+  Totalizers& totals = selected_totals();
+  totals.total_g += std::uint64_t(concluding_.final_g > 0 ? concluding_.final_g : 0);
+  ++totals.fills;
+  const bool totals_kept = save_totals();
   write_fill_line_start("RESULT");
   console_.write(" time=");
   console_.write_int(concluding_.time_ms);
@@ -88,6 +91,8 @@ void Indicator::report_result() {
   console_.write(" strategy=");
   console_.write(strategy_name(concluding_.strategy));
   write_verdict_fields();
+  console_.write(" material=");
+  console_.write_int(std::int64_t(settings_.materials.selected()));
   console_.write(" seq=");
   console_.write_int(logged ? last_sequence_ : 0);
   console_.put('\n');
@@ -96,8 +101,9 @@ void Indicator::report_result() {
     raise(Fault::nvm_error);
     return console_.error(4, "fault nvm_error");
   }
+  if (!totals_kept) raise(Fault::nvm_error);  // the fill is logged; its totals could not be kept
   // The dose answers once the hopper is empty again: the next command finds it so.
-  if (settings_.parameters.get(ParameterId::auto_discharge) != 0.0f) return start_discharge();
+  if (fault_ == Fault::none && settings_.parameters.get(ParameterId::auto_discharge) != 0.0f) return start_discharge();
   ok();
 }
 

@@ -8,6 +8,9 @@ namespace dynweigh::firmware {
 
 Indicator::Indicator(const PersistentSettings& settings) : settings_(settings) {
   scale_.start(settings_.calibration);
+  // The parameters in force are the selected material's, whoever set them.
+  settings_.materials.follow_parameter(ParameterId::density, settings_.parameters);
+  settings_.materials.follow_parameter(ParameterId::oiml_class, settings_.parameters);
   apply_parameters();
 }
 
@@ -100,10 +103,10 @@ void Indicator::actuate() {
     valve_ = scheduled;
   }
   valve_delay_100us_ = dose_running() ? dosing_.valve_delay_100us() : 0;
-  totals_.jiffy(before, valve_, dose_running() || follow_up_.active());
+  selected_totals().jiffy(before, valve_, dose_running() || follow_up_.active());
   const GateCommand gate_before = gate_;
   gate_ = fault_ == Fault::none ? discharge_.gate() : GateCommand::closed;
-  if (gate_before == GateCommand::closed && gate_ == GateCommand::open) ++totals_.gate_cycles;
+  if (gate_before == GateCommand::closed && gate_ == GateCommand::open) ++selected_totals().gate_cycles;
 }
 
 // The test-data recorder, the listings being printed, and the jiffy's Outputs.

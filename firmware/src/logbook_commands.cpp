@@ -4,7 +4,6 @@
 #include <cstring>
 
 #include "console_commands.hpp"
-#include "dynweigh/firmware/fill_statistics.hpp"
 
 namespace dynweigh::firmware {
 namespace {
@@ -85,49 +84,6 @@ void Indicator::continue_log_print() {
     console_.write_int(r.topups);
     console_.line(" crc=ok");
   }
-}
-
-}  // namespace dynweigh::firmware
-
-namespace dynweigh::firmware {
-
-// `stats [<material>]` and `stats reset`: the material's last fills from the logbook, and the
-// totalizers. One material (0) until the material table exists.
-void ConsoleCommands::stats(Indicator& indicator, const Arguments& args) {
-  Console& console = indicator.console_;
-  constexpr std::uint32_t kLastFills = 100;
-  if (args.count == 2 && std::strcmp(args.word[1], "reset") == 0) {
-    indicator.totals_ = Totalizers{};
-    indicator.totals_.after_sequence = indicator.logbook_ ? indicator.logbook_->last_sequence() : 0;
-    return indicator.ok();
-  }
-  if (args.count > 2 || (args.count == 2 && std::strcmp(args.word[1], "0") != 0)) {
-    return console.error(2, "usage: stats [0] | stats reset");
-  }
-  const FillStatistics s = indicator.logbook_ ? fill_statistics(*indicator.logbook_, 0, indicator.totals_.after_sequence, kLastFills)
-                                    : FillStatistics{};
-  console.write("STATS material=0 count=");
-  console.write_int(s.count);
-  console.write(" mean_g=");
-  console.write_decimal(s.mean_g, 2);
-  console.write(" sd_g=");
-  console.write_decimal(s.sd_g, 2);
-  console.write(" min_g=");
-  console.write_decimal(s.min_g, 1);
-  console.write(" max_g=");
-  console.write_decimal(s.max_g, 1);
-  console.write(" class=");
-  console.write_decimal(s.class_x, 1);
-  console.write(" total_kg=");
-  console.write_decimal(indicator.totals_.total_g / 1000.0f, 3);
-  console.write(" valve_cycles=");
-  console.write_int(indicator.totals_.valve_cycles);
-  console.write(" gate_cycles=");
-  console.write_int(indicator.totals_.gate_cycles);
-  console.write(" dosing_s=");
-  console.write_decimal(float(indicator.totals_.dosing_jiffies) * indicator.settings_.parameters.get(ParameterId::jiffy_ms) / 1000.0f, 2);
-  console.put('\n');
-  indicator.ok();
 }
 
 }  // namespace dynweigh::firmware

@@ -10,12 +10,10 @@ namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
-// 5: the tolerance parameters; 6: the discharge parameters
+// 5: the tolerance parameters; 6: the discharge parameters and the material table
 constexpr std::uint16_t kVersion = 6;
+constexpr std::uint16_t kVersionBeforeMaterials = 5;
 constexpr std::uint16_t kVersionBeforeTolerance = 4;
-constexpr std::size_t kParametersBeforeTolerance = static_cast<std::size_t>(ParameterId::oiml_class);
-constexpr std::uint16_t kVersionBeforeDischarge = 5;
-constexpr std::size_t kParametersBeforeDischarge = static_cast<std::size_t>(ParameterId::auto_discharge);
 
 void put_f32(std::uint8_t* p, float f) {
   std::uint32_t v;
@@ -80,6 +78,40 @@ BaselineLearning get_baselines(const std::uint8_t* p) {
   return b;
 }
 
+void put_materials(std::uint8_t* p, const MaterialTable& table) {
+  p[0] = std::uint8_t(table.selected());
+  for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
+    const Material& m = table.at(n);
+    std::uint8_t* e = p + 4 + kMaterialEntryBytes * n;
+    e[0] = m.defined ? 1 : 0;
+    std::memcpy(e + 4, m.name, Material::kNameBytes);
+    put_f32(e + 4 + Material::kNameBytes, m.density);
+    put_f32(e + 8 + Material::kNameBytes, m.class_x);
+  }
+}
+
+// An entry no console command can produce (a name not NUL-ended or not a name, a density or class
+// out of range) is dropped: the material is undefined, and a selection of it falls back to 0.
+MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters) {
+  MaterialTable table(parameters);
+  for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
+    const std::uint8_t* e = p + 4 + kMaterialEntryBytes * n;
+    if (e[0] != 1) continue;
+    Material m;
+    std::memcpy(m.name, e + 4, Material::kNameBytes);
+    m.defined = true;
+    m.density = get_f32(e + 4 + Material::kNameBytes);
+    m.class_x = get_f32(e + 8 + Material::kNameBytes);
+    if (MaterialTable::valid(m)) table.restore(n, m);
+  }
+  const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;
+  table.restore_selection(selected);
+  // The parameters in force are the selected material's.
+  table.follow_parameter(ParameterId::density, parameters);
+  table.follow_parameter(ParameterId::oiml_class, parameters);
+  return table;
+}
+
 }  // namespace
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
@@ -93,7 +125,7 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
 
 // Layout, little-endian: magic u32, version u16, parameter count u16, length u32, crc u32 (over
 // everything after it), zero i32, zero fraction f32, span f32, parameters f32 each, learning table,
-// the baselines' learned laws.
+// the baselines' learned laws, the material table.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity) {
   if (capacity < kSettingsRecordSize) return 0;
   std::memset(out, 0, kSettingsRecordSize);
@@ -122,7 +154,9 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
     p[8] = std::uint8_t(e.fills);
     p[9] = std::uint8_t(e.fills >> 8);
   }
-  put_baselines(table + kLearningEntryBytes * LearningTable::kEntries, settings.baselines);
+  std::uint8_t* baselines = table + kLearningEntryBytes * LearningTable::kEntries;
+  put_baselines(baselines, settings.baselines);
+  put_materials(baselines + kBaselineLearningBytes, settings.materials);
   put_u32(out + 12, crc32(out + 16, kSettingsRecordSize - 16) ^ crc32(out, 12));
   return kSettingsRecordSize;
 }
@@ -131,10 +165,11 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
   const std::size_t parameter_count = version == kVersion                  ? kParameterCount
-                                      : version == kVersionBeforeDischarge ? kParametersBeforeDischarge
-                                      : version == kVersionBeforeTolerance ? kParametersBeforeTolerance
+                                      : version == kVersionBeforeMaterials ? kParametersV5
+                                      : version == kVersionBeforeTolerance ? kParametersV4
                                                                            : 0;
-  const std::size_t record_size = settings_record_size(parameter_count);
+  const bool with_materials = version == kVersion;
+  const std::size_t record_size = settings_record_size(parameter_count, with_materials);
   if (parameter_count == 0 || data[6] != parameter_count || length < record_size) return false;
   if (get_u32(data + 8) != record_size) return false;
   if (get_u32(data + 12) != (crc32(data + 16, record_size - 16) ^ crc32(data, 12))) return false;
@@ -170,7 +205,11 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
     const bool reachable = std::fabs(e.correction_g) <= LearningTable::kMaximumStepG * float(e.fills);
     if (!e.used || !std::isfinite(e.correction_g) || !reachable) e = LearningTable::Entry{};
   }
-  decoded.baselines = get_baselines(table + kLearningEntryBytes * LearningTable::kEntries);
+  const std::uint8_t* baselines = table + kLearningEntryBytes * LearningTable::kEntries;
+  decoded.baselines = get_baselines(baselines);
+  // Before the table: material 0, selected, is the one the parameters describe.
+  decoded.materials = with_materials ? get_materials(baselines + kBaselineLearningBytes, decoded.parameters)
+                                     : MaterialTable(decoded.parameters);
   settings = decoded;
   return true;
 }

@@ -50,6 +50,7 @@ void ConsoleCommands::param(Indicator& indicator, const Arguments& args) {
     }
     if (!spec.choices && !parse_decimal(args.word[2], value)) return console.error(2, "not a number");
     if (!parameters.set(id, value)) return console.error(2, "value out of range");
+    indicator.settings_.materials.follow_parameter(id, parameters);  // density, class: the selected material's
     indicator.apply_parameters();
     indicator.settings_changed_ = true;
   }

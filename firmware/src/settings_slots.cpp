@@ -7,11 +7,17 @@ namespace {
 
 constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
 
-// The record before the tolerance parameters, and where its second slot lay: a board updated from
-// that firmware still finds its settings (the next save writes today's layout).
-constexpr std::size_t kRecordSizeBeforeTolerance =
-    settings_record_size(static_cast<std::size_t>(ParameterId::oiml_class));
-constexpr std::size_t kSlotSizeBeforeTolerance = kSlotHeaderSize + kRecordSizeBeforeTolerance;
+// The records of older firmware (versions 5 and 4), and where their second slot lay: a board
+// updated from one still finds its settings (the next save writes today's layout).
+constexpr std::size_t kOlderRecordSizes[] = {kSettingsRecordSizeV5, kSettingsRecordSizeV4};
+
+bool known_record_size(std::size_t payload) {
+  if (payload == kSettingsRecordSize) return true;
+  for (std::size_t size : kOlderRecordSizes) {
+    if (payload == size) return true;
+  }
+  return false;
+}
 
 std::uint32_t slot_crc(const std::uint8_t* slot, std::size_t payload) {
   // Over sequence and length (bytes 4..11) and the payload.
@@ -39,7 +45,7 @@ bool decode_slot(const std::uint8_t* data, std::size_t length, PersistentSetting
                  std::uint32_t& sequence) {
   if (length < kSlotHeaderSize || get_u32(data) != kSlotMagic) return false;
   const std::size_t payload = get_u32(data + 8);
-  if (payload != kSettingsRecordSize && payload != kRecordSizeBeforeTolerance) return false;
+  if (!known_record_size(payload)) return false;
   if (length < kSlotHeaderSize + payload || get_u32(data + 12) != slot_crc(data, payload)) return false;
   PersistentSettings decoded;
   if (!decode_settings(data + kSlotHeaderSize, payload, decoded)) return false;
@@ -57,9 +63,11 @@ bool SettingsSlots::scan(PersistentSettings* settings) {
     std::uint8_t image[kSlotSize];
     PersistentSettings decoded;
     std::uint32_t sequence = 0;
-    const bool found = (nvm_.read(slot * kSlotSize, image, kSlotSize) && decode_slot(image, kSlotSize, decoded, sequence)) ||
-                       (nvm_.read(slot * kSlotSizeBeforeTolerance, image, kSlotSizeBeforeTolerance) &&
-                        decode_slot(image, kSlotSizeBeforeTolerance, decoded, sequence));
+    bool found = nvm_.read(slot * kSlotSize, image, kSlotSize) && decode_slot(image, kSlotSize, decoded, sequence);
+    for (std::size_t older : kOlderRecordSizes) {
+      const std::size_t older_slot = kSlotHeaderSize + older;
+      found = found || (nvm_.read(slot * older_slot, image, older_slot) && decode_slot(image, older_slot, decoded, sequence));
+    }
     if (!found) continue;
     if (newest_ < 0 || newer(sequence, sequence_)) {
       newest_ = int(slot);

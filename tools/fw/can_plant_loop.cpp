@@ -111,6 +111,7 @@ int run_can_plant(const CanPlantOptions& options) {
   // Without --nvm the results since start-up, in RAM (as the in-process board keeps them).
   auto ram_logbook = std::make_unique<firmware::RamLogbook<hal::host::LockstepSession::kRamLogbookSlots>>();
   indicator.attach_logbook(nvm.store ? nvm.store->logbook() : &ram_logbook->logbook());
+  indicator.attach_totalizers(nvm.store ? nvm.store->totalizers() : nullptr);
   const std::unique_ptr<hal::linux_can::CanTransport> link = hal::linux_can::open_can_transport(options.transport);
   std::unique_ptr<CsvTrace> csv;
   if (!options.csv.empty()) csv = std::make_unique<CsvTrace>(options.csv);

@@ -43,6 +43,19 @@ void grow(int fd, const std::string& path, std::size_t from) {
   }
 }
 
+// A version-5 file: its logbook moves to where this version keeps it (after the larger settings
+// slots, which leaves the old slots where they were), and the totalizers' part is added, erased.
+void move_version5_logbook(int fd, const std::string& path) {
+  constexpr std::size_t kLogBytes = kFileLogbookSlots * firmware::kLogRecordSize;
+  std::vector<std::uint8_t> moved(kNvmFileBytes - kFileLogbookOffset, 0xFF);
+  if (::pread(fd, moved.data(), kLogBytes, off_t(kVersion5FileBytes - kLogBytes)) != ssize_t(kLogBytes) ||
+      ::pwrite(fd, moved.data(), moved.size(), off_t(kFileLogbookOffset)) != ssize_t(moved.size()) || ::fsync(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::close(fd);
+    throw nvm_error(path, "cannot write: " + reason);
+  }
+}
+
 }  // namespace
 
 NvmFile prepare_nvm_file(const std::string& path, bool reset) {
@@ -58,6 +71,8 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset) {
     state = exists ? NvmFile::erased : NvmFile::created;
   } else if (st.st_size == off_t(kSettingsOnlyFileBytes)) {
     grow(fd, path, std::size_t(st.st_size));
+  } else if (st.st_size == off_t(kVersion5FileBytes)) {
+    move_version5_logbook(fd, path);
   } else if (st.st_size != off_t(kNvmFileBytes)) {
     state = NvmFile::wrong_size;
   } else if (all_erased(fd)) {

@@ -11,6 +11,7 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
       indicator_(settings ? *settings : factory_settings(plant_)),
       store_(store) {
   indicator_.attach_logbook(store && store->logbook() ? store->logbook() : &ram_logbook_.logbook());
+  indicator_.attach_totalizers(store ? store->totalizers() : nullptr);
 }
 
 firmware::Outputs LockstepSession::step(ConsolePort& console) {

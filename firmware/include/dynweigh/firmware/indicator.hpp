@@ -51,6 +51,12 @@ class Indicator {
     logbook_ = logbook;
     last_sequence_ = logbook ? logbook->last_sequence() : 0;
   }
+  // The board's store of the totalizers (each material's): loaded now, written with each result.
+  // Without one they count in RAM from start-up.
+  void attach_totalizers(TotalizerSlots* store) {
+    totalizer_store_ = store;
+    if (store) store->load(totals_);
+  }
   void resume_sequence(std::uint32_t last) { last_sequence_ = last; }
   std::uint32_t last_sequence() const { return last_sequence_; }
   float filtered_weight_g() const { return scale_.filtered_net_g(settings_.calibration); }
@@ -155,7 +161,10 @@ class Indicator {
   Logbook* logbook_ = nullptr;
   std::uint32_t last_sequence_ = 0;  // the last result's number
   std::uint32_t jiffy_ = 0;          // the board's jiffy count, for the logbook
-  Totalizers totals_;
+  MaterialTotals totals_;
+  TotalizerSlots* totalizer_store_ = nullptr;
+  Totalizers& selected_totals() { return totals_.material[settings_.materials.selected()]; }
+  bool save_totals() { return !totalizer_store_ || totalizer_store_->save(totals_); }
   TestCycle test_;
   TestDataRecorder recorder_;
   RecordingSource recording_source_;

@@ -6,6 +6,7 @@
 
 #include "dynweigh/firmware/baseline_learning.hpp"
 #include "dynweigh/firmware/learning_table.hpp"
+#include "dynweigh/firmware/material_table.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
 namespace dynweigh::firmware {
@@ -30,6 +31,7 @@ struct PersistentSettings {
   Parameters parameters;
   LearningTable learning;
   BaselineLearning baselines;
+  MaterialTable materials;
 };
 
 inline constexpr std::size_t kLearningEntryBytes = 12;
@@ -37,10 +39,21 @@ inline constexpr std::size_t kLearningEntryBytes = 12;
 inline constexpr std::size_t kRlsStateBytes = 24;
 // pac: spill law, blind law; flowpreact: lag f32, fills u16, pad, blind law.
 inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + kRlsStateBytes;
-// A record's size with `parameter_count` parameters (an older firmware's record has fewer).
-constexpr std::size_t settings_record_size(std::size_t parameter_count) {
-  return 16 + 12 + 4 * parameter_count + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes;
+// The material table: selected u8, 3 bytes pad, then each material: defined u8, 3 bytes pad, name
+// 16 bytes (NUL-padded), density f32, class f32. What is later kept per material goes after it.
+inline constexpr std::size_t kMaterialEntryBytes = 4 + Material::kNameBytes + 4 + 4;
+inline constexpr std::size_t kMaterialTableBytes = 4 + kMaterialEntryBytes * MaterialTable::kMaterials;
+// A record's size with `parameter_count` parameters (an older firmware's record has fewer) and,
+// from version 6 on, the material table.
+constexpr std::size_t settings_record_size(std::size_t parameter_count, bool with_materials = true) {
+  return 16 + 12 + 4 * parameter_count + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes +
+         (with_materials ? kMaterialTableBytes : 0);
 }
+// Version 5 (before the material table) and version 4 (before the tolerance parameters too).
+inline constexpr std::size_t kParametersV5 = static_cast<std::size_t>(ParameterId::topup_ms) + 1;
+inline constexpr std::size_t kParametersV4 = static_cast<std::size_t>(ParameterId::oiml_class);
+inline constexpr std::size_t kSettingsRecordSizeV5 = settings_record_size(kParametersV5, false);
+inline constexpr std::size_t kSettingsRecordSizeV4 = settings_record_size(kParametersV4, false);
 inline constexpr std::size_t kSettingsRecordSize = settings_record_size(kParameterCount);
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
@@ -48,7 +61,8 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 // Writes the record; returns its size (kSettingsRecordSize) or 0 if `capacity` is too small.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity);
 // False (and `settings` untouched) unless the record is complete and intact, and this firmware's or
-// the one before (version 4, without the tolerance parameters: they take their defaults).
+// an older one (version 5, without the material table: material 0 is made from its density and
+// class; version 4, without the tolerance parameters too: they take their defaults).
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings);
 
 }  // namespace dynweigh::firmware

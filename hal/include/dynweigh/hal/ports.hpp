@@ -8,6 +8,7 @@
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/logbook.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/firmware/totalizers.hpp"
 
 namespace dynweigh::hal {
 
@@ -76,6 +77,8 @@ class SettingsStore {
   virtual bool save(const firmware::PersistentSettings& settings) = 0;
   // The logbook kept in the same memory (opened), or null: the board then keeps one in RAM.
   virtual firmware::Logbook* logbook() { return nullptr; }
+  // The materials' totalizers kept in the same memory, or null: the board then counts in RAM.
+  virtual firmware::TotalizerSlots* totalizers() { return nullptr; }
 };
 
 }  // namespace dynweigh::hal

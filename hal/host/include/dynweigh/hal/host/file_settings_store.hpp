@@ -5,15 +5,23 @@
 #include <string>
 
 #include "dynweigh/firmware/settings_slots.hpp"
+#include "dynweigh/firmware/totalizers.hpp"
 #include "dynweigh/hal/ports.hpp"
 
 namespace dynweigh::hal::host {
 
 // The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
-// fewer kept). A file of an older version (the settings alone, kSettingsOnlyFileBytes) is grown.
+// fewer kept), then the materials' totalizers' two slots. A file of an older version is grown: the
+// settings alone (kSettingsOnlyFileBytes), or version-5 settings and the logbook (kVersion5FileBytes,
+// whose logbook is moved behind today's larger settings slots); its settings load as they are.
 inline constexpr std::size_t kFileLogbookSlots = 1001;
-inline constexpr std::size_t kNvmFileBytes = firmware::kSettingsSlotsBytes + kFileLogbookSlots * firmware::kLogRecordSize;
+inline constexpr std::size_t kFileLogbookOffset = firmware::kSettingsSlotsBytes;
+inline constexpr std::size_t kFileTotalizersOffset = kFileLogbookOffset + kFileLogbookSlots * firmware::kLogRecordSize;
+inline constexpr std::size_t kNvmFileBytes = kFileTotalizersOffset + firmware::kTotalizerSlotsBytes;
 inline constexpr std::size_t kSettingsOnlyFileBytes = 872;
+inline constexpr std::size_t kVersion5FileBytes =
+    firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV5) +
+    kFileLogbookSlots * firmware::kLogRecordSize;
 
 // The file as a byte-addressed memory of kNvmFileBytes; bytes never written read as erased (0xFF).
 class FileNvm final : public firmware::NvmBlock {
@@ -47,11 +55,13 @@ class FileSettingsStore final : public SettingsStore {
   bool load(firmware::PersistentSettings& settings) override { return slots_.load(settings); }
   bool save(const firmware::PersistentSettings& settings) override { return slots_.save(settings); }
   firmware::Logbook* logbook() override { return &logbook_; }
+  firmware::TotalizerSlots* totalizers() override { return &totalizers_; }
 
  private:
   FileNvm nvm_;
   firmware::SettingsSlots slots_;
-  firmware::Logbook logbook_{nvm_, firmware::kSettingsSlotsBytes, kFileLogbookSlots};
+  firmware::Logbook logbook_{nvm_, kFileLogbookOffset, kFileLogbookSlots};
+  firmware::TotalizerSlots totalizers_{nvm_, kFileTotalizersOffset};
 };
 
 }  // namespace dynweigh::hal::host

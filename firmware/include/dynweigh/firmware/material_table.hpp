@@ -1,0 +1,57 @@
+#pragma once
+// The materials a plant doses: up to kMaterials, each with a name, its bulk density's first guess
+// and the OIML R61 class its fills are judged by. One is selected; its density and class are the
+// `density` and `class` parameters a dose uses (selecting one copies them there, and `param density`
+// or `param class` edits the selected one's). Material 0 always exists. What the strategies learn
+// (the learning table, the baselines) is not yet kept per material: it stays one set for all.
+#include <cstddef>
+#include <cstdint>
+
+#include "dynweigh/firmware/parameters.hpp"
+
+namespace dynweigh::firmware {
+
+struct Material {
+  static constexpr std::size_t kNameBytes = 16;  // 15 characters and the terminating NUL
+  bool defined = false;
+  char name[kNameBytes] = {};
+  float density = 0.0f;  // kg/m^3, the `density` parameter's range
+  float class_x = 0.0f;  // X(x), the `class` parameter's range
+};
+
+class MaterialTable {
+ public:
+  static constexpr std::size_t kMaterials = 16;
+
+  // Material 0 defined from `parameters` (its density and class), selected; the others undefined.
+  MaterialTable() : MaterialTable(Parameters{}) {}
+  explicit MaterialTable(const Parameters& parameters);
+
+  const Material& at(std::size_t n) const { return materials_[n]; }
+  std::size_t selected() const { return selected_; }
+
+  // Letters, digits, '_', '-' and '.', 1 to 15 of them: a name a console line keeps as one word.
+  static bool valid_name(const char* name);
+  // A defined entry the commands could have made: a NUL-ended valid name, density and class in range.
+  static bool valid(const Material& material);
+  // Defines material `n` if it is not (named "material<n>", with the parameters' defaults).
+  void define(std::size_t n);
+  bool rename(std::size_t n, const char* name);
+  // False if `density` is outside the `density` parameter's range.
+  bool set_density(std::size_t n, float density);
+  bool set_class(std::size_t n, float class_x);
+  // Selects `n` (defining it) and copies its density and class into `parameters`.
+  void select(std::size_t n, Parameters& parameters);
+  // A `param density` or `param class` just set: the selected material takes it.
+  void follow_parameter(ParameterId id, const Parameters& parameters);
+
+  // For the settings record: restores an entry as stored (checked by the caller) and the selection.
+  void restore(std::size_t n, const Material& material) { materials_[n] = material; }
+  void restore_selection(std::size_t n) { selected_ = n; }
+
+ private:
+  Material materials_[kMaterials];
+  std::size_t selected_ = 0;
+};
+
+}  // namespace dynweigh::firmware
