@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """SocketCAN for real: boots a QEMU x86-64 guest (Debian's kernel, a busybox initramfs, the can,
 can-raw, can-dev and vcan modules), runs `dynweigh plant --can socketcan:vcan0` and
-`dynweigh-fw --plant can:socketcan:vcan0` with `dose 5000`, and `candump -L vcan0` beside them.
-Passes when the dose reaches its target by the plant's truth and candump shows well-formed frames
-of every kind in docs/can-protocol.md. The host kernel has no CAN, hence the guest.
+`dynweigh-fw --plant can:socketcan:vcan0` with `dose 5000` then `discharge`, and `candump -L vcan0`
+beside them. Passes when the dose reaches its target by the plant's truth, the discharge answers OK
+and empties the hopper, and candump shows well-formed frames of every kind in docs/can-protocol.md:
+the gate's 0x228 (open, then closed, each with the counter of the sample it answers) and its 0x1A8
+feedback (open, then closed) included. The host kernel has no CAN, hence the guest.
 
 The kernel comes from `apt-get download linux-image-6.1.0-<abi>-amd64` unpacked with `dpkg -x` into
 $DYNWEIGH_GUEST_KERNEL (default /opt/dynweigh-guest-kernel); .ci/run does that. The host binaries
@@ -58,7 +60,7 @@ echo "vcan0=up"
 CANDUMP=$!
 /opt/dw/dynweigh plant --can socketcan:vcan0 --scene default --seed 1 --wait 30 --timeout 30 > /tmp/plant.log 2>&1 &
 PLANT=$!
-printf 'dose 5000\n' | /opt/dw/dynweigh-fw --plant can:socketcan:vcan0 > /tmp/fw.log 2>&1
+printf 'dose 5000\ndischarge\n' | /opt/dw/dynweigh-fw --plant can:socketcan:vcan0 > /tmp/fw.log 2>&1
 FW=$?
 wait $PLANT
 PLANT_STATUS=$?
@@ -69,8 +71,24 @@ echo "===plant exit=$PLANT_STATUS"; cat /tmp/plant.log
 echo "===candump"; grep -m 3 ' 190#' /tmp/candump.log; grep -m 3 ' 220#' /tmp/candump.log
 grep -m 2 ' 1A0#' /tmp/candump.log; grep -m 2 ' 181#' /tmp/candump.log; grep -m 3 ' 7[0-9A-F][0-9A-F]#' /tmp/candump.log
 echo "candump_lines=$(wc -l < /tmp/candump.log)"
-for id in 190 220 1A0 181 701 710 720; do echo "candump_$id=$(grep -c " $id#" /tmp/candump.log)"; done
+grep -m 2 ' 228#' /tmp/candump.log; grep -m 2 ' 1A8#' /tmp/candump.log
+for id in 190 220 1A0 181 701 710 720 228 1A8 728; do echo "candump_$id=$(grep -c " $id#" /tmp/candump.log)"; done
 echo "candump_bad=$(grep -vcE '^\([0-9]+\.[0-9]+\) vcan0 [0-9A-F]{3}#([0-9A-F]{2})*$' /tmp/candump.log)"
+# The gate's frames, summarised here rather than copied over the serial console: the runs of
+# 0x228 commands and 0x1A8 positions, and every 0x228 whose counter is not that of a 0x190 sample
+# or not that of the 0x220 sent right after it in the same jiffy.
+awk '
+  { split($3, f, "#"); id = f[1]; d = f[2] }
+  id == "190" { samples[substr(d, 9, 4)] = 1 }
+  pending != "" && id == "220" { if (substr(d, 5, 4) != pending) bad_next++; pending = "" }
+  id == "228" { if (length(d) != 8) bad_len++; c = substr(d, 1, 2)
+                if (c != last_cmd) { cmds = cmds (cmds == "" ? "" : ",") c; last_cmd = c } pending = substr(d, 5, 4)
+                if (!(pending in samples)) bad_sample++ }
+  id == "1A8" { if (length(d) != 4) bad_len++; p = substr(d, 1, 2)
+                if (p != last_pos) { pos = pos (pos == "" ? "" : ",") p; last_pos = p } }
+  END { printf "gate_commands=%s\ngate_positions=%s\ngate_frames_bad_length=%d\n", cmds, pos, bad_len
+        printf "gate_counter_not_a_sample=%d\ngate_counter_not_the_valve_answer=%d\n", bad_sample, bad_next }
+' /tmp/candump.log
 echo "===end"
 finish 0
 """
@@ -126,16 +144,34 @@ if "===fw exit=0" not in out or "===plant exit=0" not in out or len(results) != 
     fail("dynweigh-fw or dynweigh plant failed in the guest")
 if kv.get("end") != "indicator_stopped" or kv.get("late_answers") != "0":
     fail("lockstep on vcan0 broken")
-true_g = float(kv["final_static_kg"]) * 1000.0
+# The discharge emptied the container: what was filled is what went out through the gate.
+true_g = (float(kv["discharged_kg"]) + float(kv["final_static_kg"])) * 1000.0
 print(f"true_fill_g={true_g:.1f}")
 if abs(true_g - 5000) > 100:
     fail(f"filled {true_g:.1f} g for a 5000 g target")
-for cob in ("190", "220", "1A0", "181", "701", "710", "720"):
+fw_lines = out[out.find("===fw exit="):out.find("===plant exit=")].splitlines()
+after = fw_lines[fw_lines.index(results[0]) + 1:][:2]
+if after != ["OK", "OK"]:
+    fail(f"expected the dose's OK then the discharge's OK after RESULT, got {after}")
+if kv.get("gate_opens") != "1" or float(kv["final_static_kg"]) > 0.02:
+    fail(f"the gate opened {kv.get('gate_opens')} times and left {kv['final_static_kg']} kg in the hopper")
+for cob in ("190", "220", "1A0", "181", "701", "710", "720", "228", "1A8", "728"):
     if int(kv.get(f"candump_{cob}", "0")) == 0:
         fail(f"candump saw no frame {cob}")
 # One 0x220 per 0x190; the plant's last sample may cross the indicator's goodbye unanswered.
 if not 0 <= int(kv["candump_190"]) - int(kv["candump_220"]) <= 1:
     fail("candump: not exactly one 0x220 per 0x190")
+# The gate is commanded open (02) then closed (00); its feedback goes from open (03) to closed (00),
+# through moving (01) if the plant reports it.
+if kv.get("gate_commands") != "02,00":
+    fail(f"0x228 commands ran {kv.get('gate_commands')!r}, not open then closed (02,00)")
+positions = kv.get("gate_positions", "").split(",")
+if "03" not in positions or positions[-1] != "00":
+    fail(f"0x1A8 positions ran {kv.get('gate_positions')!r}: never open (3) then closed (0)")
+if kv.get("gate_frames_bad_length") != "0":
+    fail("candump shows 0x228 or 0x1A8 frames of the wrong length")
+if kv.get("gate_counter_not_a_sample") != "0" or kv.get("gate_counter_not_the_valve_answer") != "0":
+    fail("0x228 frames that do not carry the counter of the sample they answer")
 if kv.get("candump_bad") != "0":
     fail("candump shows frames that are not classic CAN data frames on vcan0")
 print("PASS")
