@@ -68,7 +68,7 @@ TEST(ModbusRegisterMap, AnswersExceptionsForUnknownFunctionsAddressesAndValues) 
   EXPECT_EQ(m.send(pdu(modbus::kReadInputRegisters, {0, 126})).exception, Exception::illegal_data_value);
   EXPECT_EQ(m.send({modbus::kReadInputRegisters, 0, 0, 0}).exception, Exception::illegal_data_value);
   EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {2, 4})).exception, Exception::illegal_data_value);
-  EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {3, 1})).exception, Exception::illegal_data_value);
+  EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {3, 16})).exception, Exception::illegal_data_value);
   EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {4, 5})).exception, Exception::illegal_data_value);
   EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {5, 0})).exception, Exception::illegal_data_value);
   EXPECT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {5, 9})).exception, Exception::illegal_data_value);
@@ -128,6 +128,27 @@ TEST(ModbusRegisterMap, ACommandIsItsConsoleLineAndRunsUntilTheLoopAnswersIt) {
     EXPECT_STREQ(o.command.line, words[command]);
     m.loop.answered_sequence = o.command.sequence;
   }
+}
+
+TEST(ModbusRegisterMap, AWrittenMaterialIsSelectedOnTheLineBeforeTheNextDose) {
+  Map m;
+  m.loop.selected_material = 2;  // the console selected it
+  EXPECT_EQ(m.holding()[3], 2u);
+  ASSERT_EQ(m.send(pdu(modbus::kWriteSingleRegister, {3, 15})).exception, Exception::none);
+  EXPECT_EQ(m.holding()[3], 15u);
+  const RegisterMap::Outcome dose = m.send(write_multiple(0, {0, 800, 1}));
+  EXPECT_EQ(dose.command_written, false);
+  const RegisterMap::Outcome start = m.send(pdu(modbus::kWriteSingleRegister, {5, 1}));
+  ASSERT_TRUE(start.command_written);
+  EXPECT_STREQ(start.command.line, "material 15\ndose 800 preact");
+  m.loop.answered_sequence = start.command.sequence;
+  m.loop.selected_material = 15;
+  // The next dose selects nothing; a written material already selected neither.
+  const RegisterMap::Outcome again = m.send(pdu(modbus::kWriteSingleRegister, {5, 1}));
+  EXPECT_STREQ(again.command.line, "dose 800 preact");
+  m.loop.answered_sequence = again.command.sequence;
+  const RegisterMap::Outcome same = m.send(write_multiple(3, {15, 0, 1}));
+  EXPECT_STREQ(same.command.line, "dose 800 preact");
 }
 
 TEST(ModbusResultFields, ReadsTheRegistersFieldsByKeyAndMissingOnesAsZero) {
@@ -233,6 +254,21 @@ TEST(PlcConsole, APlcDoseGoesThroughTheConsolePathAndItsResultFillsTheRegisters)
   EXPECT_EQ(int32_at(r, modbus::input::result_final_dg), result.final_g * 10);
   EXPECT_EQ(int32_at(r, modbus::input::result_error_dg), result.error_g * 10);
   EXPECT_EQ(std::uint32_t(int32_at(r, modbus::input::result_time_ms)), result.time_ms);
+}
+
+TEST(PlcConsole, APlcMaterialIsSelectedBeforeItsDoseAndRegister5AnswersTheDose) {
+  Plc plc;
+  plc.jiffy();
+  ASSERT_EQ(plc.send(write_multiple(0, {0, 1000, 0, 7, 0, 1})), Exception::none);
+  for (int i = 0; i < 5; ++i) plc.jiffy();
+  EXPECT_EQ(plc.command_register(), modbus::kCommandRunning) << "the material's OK is not the dose's";
+  EXPECT_EQ(plc.until_answered(), 0u);
+  const std::string& out = plc.console.output;
+  const std::size_t selected = out.find("MATERIAL n=7 name=material7");
+  ASSERT_NE(selected, std::string::npos) << out;
+  EXPECT_LT(selected, out.find("RESULT target=1000")) << out;
+  EXPECT_NE(out.find(" material=7 "), std::string::npos) << out;
+  EXPECT_EQ(plc.session.indicator().settings().materials.selected(), 7u);
 }
 
 TEST(PlcConsole, OneSidesCommandAtATimeAndAbortFromThePlcCutsAnOperatorsDose) {

@@ -205,6 +205,43 @@ def case_tcp_dose(args, tmp):
         fail(f"the exit summary counts {summary.get('modbus_requests')} Modbus requests")
 
 
+def case_material_dose(args, tmp):
+    """Register 3 selects the material as the console's `material <n>` does (an undefined one is
+    defined with the defaults), on the PLC's next dose; the dose and its RESULT use it."""
+    port = free_tcp_port()
+    fw = Firmware(args.fw, ["--modbus", f"tcp:127.0.0.1:{port}", "--seed", "3"])
+    fw.wait_serving()
+    plc = ModbusTcpClient("127.0.0.1", port=port)
+    if not plc.connect():
+        fail("cannot connect")
+    if holding(plc, 1)[3] != 0:
+        fail(f"a fresh indicator's material register reads {holding(plc, 1)[3]}, not the selected 0")
+    expect_exception(port, struct.pack(">BHH", 0x06, 3, 16), 3, "material 16")
+    doses = [(5, True), (5, False), (0, True)]  # (material, written before the dose)
+    for i, (material, written) in enumerate(doses):
+        seq = inputs(plc, 1)[RESULT_SEQ]
+        block = [0, 2000, 0, material, 0, 1] if written else [0, 2000, 0]
+        ok(plc.write_registers(0, block, slave=1), f"write set point, material {material} and dose")
+        if not written:
+            ok(plc.write_register(5, 1, slave=1), "write command 1 (dose)")
+        regs, command, _ = wait_for_result(plc, 1, seq)
+        if command != 0:
+            fail(f"dose {i + 1} (material {material}): register 5 reads {command}, not 0 (OK)")
+        results = fw.results()
+        if len(results) != i + 1 or field(results[-1], "material") != str(material):
+            fail(f"dose {i + 1}: want RESULT material={material}, console shows {results}")
+        if holding(plc, 1)[3] != material:
+            fail(f"after dose {i + 1} the material register reads {holding(plc, 1)[3]}, not {material}")
+    plc.close()
+    fw.stop()
+    selections = [l for l in fw.lines if l.startswith("MATERIAL ")]
+    print("\n".join(selections))
+    # Material 5 is defined by its selection, as on the console; a dose of the material already
+    # selected selects nothing (the settings are not rewritten).
+    if len(selections) != 2 or "n=5 name=material5 density=1550" not in selections[0] or "n=0 " not in selections[1]:
+        fail(f"want one `material 5` (defined with the defaults) and one `material 0` on the console: {selections}")
+
+
 def case_rtu_dose(args, tmp):
     """Over RTU through a socat pty pair, with TCP served at once (--modbus given twice)."""
     if not shutil.which("socat"):
@@ -401,7 +438,7 @@ def case_bad_requests(args, tmp):
     expect_exception(port, struct.pack(">BHH", 0x03, 0, 0), 3, "read of 0 registers")
     expect_exception(port, struct.pack(">BHH", 0x04, 0, 126), 3, "read of 126 registers")
     expect_exception(port, struct.pack(">BHH", 0x06, 2, 4), 3, "strategy 4")
-    expect_exception(port, struct.pack(">BHH", 0x06, 3, 1), 3, "material 1 (only 0 exists)")
+    expect_exception(port, struct.pack(">BHH", 0x06, 3, 16), 3, "material 16 (the table holds 0..15)")
     expect_exception(port, struct.pack(">BHH", 0x06, 4, 5), 3, "class_x10 5 (X(1) only)")
     expect_exception(port, struct.pack(">BHH", 0x06, 5, 0), 3, "command 0")
     expect_exception(port, struct.pack(">BHH", 0x06, 5, 9), 3, "command 9")
@@ -536,7 +573,7 @@ def measure(args, tmp):
         print(f"{key}={summary.get(key)}")
 
 
-CASES = {"tcp_dose": case_tcp_dose, "can_dose": case_can_dose, "rtu_dose": case_rtu_dose, "disconnect_mid_dose": case_disconnect_mid_dose,
+CASES = {"tcp_dose": case_tcp_dose, "material_dose": case_material_dose, "can_dose": case_can_dose, "rtu_dose": case_rtu_dose, "disconnect_mid_dose": case_disconnect_mid_dose,
          "watchdog": case_watchdog, "bad_requests": case_bad_requests, "measure": measure}
 
 a = argparse.ArgumentParser()

@@ -26,9 +26,9 @@ std::int32_t to_decigrams(float grams) {
 PlcConsole::PlcConsole(hal::ConsolePort& operator_console, PlcMailbox& mailbox)
     : operator_(operator_console), mailbox_(mailbox) {}
 
-void PlcConsole::await(Origin origin, std::uint16_t sequence, bool dose) {
+void PlcConsole::await(Origin origin, std::uint16_t sequence, bool dose, bool prelude) {
   if (awaited_count_ == kAwaited) return;  // more than a console holds in flight: the indicator refuses them anyway
-  awaited_[(awaited_head_ + awaited_count_) % kAwaited] = Awaited{origin, sequence, dose};
+  awaited_[(awaited_head_ + awaited_count_) % kAwaited] = Awaited{origin, sequence, dose, prelude};
   ++awaited_count_;
 }
 
@@ -55,6 +55,9 @@ std::size_t PlcConsole::read(char* destination, std::size_t capacity) {
     std::memcpy(destination, inject_line_, n);
     destination[n] = '\n';
     const bool dose = inject_origin_ == Origin::plc && inject_command_.command == PlcCommand::dose;
+    for (const char* c = inject_line_; *c != '\0'; ++c) {
+      if (*c == '\n') await(inject_origin_, inject_command_.sequence, false, true);
+    }
     await(inject_origin_, inject_command_.sequence, dose);
     return n + 1;
   }
@@ -113,8 +116,14 @@ void PlcConsole::answer_line(const char* line) {
   awaited_head_ = (awaited_head_ + 1) % kAwaited;
   --awaited_count_;
   if (answered.origin != Origin::plc) return;
+  const std::uint16_t code = ok ? 0 : std::uint16_t(std::strtol(line + 4, nullptr, 10));
+  if (answered.prelude) {
+    if (prelude_error_ == 0) prelude_error_ = code;
+    return;
+  }
   snapshot_.answered_sequence = answered.sequence;
-  snapshot_.answer_code = ok ? 0 : std::uint16_t(std::strtol(line + 4, nullptr, 10));
+  snapshot_.answer_code = prelude_error_ != 0 ? prelude_error_ : code;
+  prelude_error_ = 0;
 }
 
 void PlcConsole::fill_registers(const firmware::Indicator& indicator, const firmware::Outputs& outputs) {
@@ -131,6 +140,7 @@ void PlcConsole::fill_registers(const firmware::Indicator& indicator, const firm
   r[input::result_time_ms + 1] = low_word(result_.time_ms);
   r[input::result_tolerance] = result_.tolerance;
   r[input::result_topups] = result_.topups;
+  snapshot_.selected_material = std::uint16_t(indicator.settings().materials.selected());
 
   // In flight: what the strategy predicts the fill will reach, less what has landed of it.
   const bool dosing = outputs.state == firmware::IndicatorState::dosing;

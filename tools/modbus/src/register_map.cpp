@@ -9,9 +9,9 @@ constexpr std::uint16_t kMaxReadCount = 125;   // the Modbus limit of a read's r
 constexpr std::uint16_t kMaxWriteCount = 123;  // the Modbus limit of a 0x10 request
 constexpr const char* kStrategyNames[] = {"model", "preact", "twostage", "learn"};
 constexpr std::uint16_t kStrategies = 4;
-// Only material 0 exists until a material table does; X(1) is the only class the PLC can ask for
+// The indicator's material table (`material <n>`); X(1) is the only class the PLC can ask for
 // until the indicator takes a class (0: the material's, which is X(1) too).
-constexpr std::uint16_t kMaterials = 1;
+constexpr std::uint16_t kMaterials = 16;
 
 std::uint16_t word_at(const std::uint8_t* bytes) { return std::uint16_t((bytes[0] << 8) | bytes[1]); }
 
@@ -38,7 +38,7 @@ std::uint16_t RegisterMap::holding_register(std::uint16_t address, const LoopSna
     case holding::target_high: return high_word(target_g_);
     case holding::target_low: return low_word(target_g_);
     case holding::strategy: return strategy_;
-    case holding::material: return material_;
+    case holding::material: return material_written_ ? material_ : loop.selected_material;
     case holding::class_x10: return class_x10_;
     case holding::command: return command_running(loop) ? kCommandRunning : loop.answer_code;
     default: return 0;
@@ -106,27 +106,39 @@ RegisterMap::Outcome RegisterMap::write(std::uint16_t address, std::uint16_t cou
     target_g_ = (std::uint32_t(staged_target_high_) << 16) | value(holding::target_low);
   }
   if (covers(holding::strategy)) strategy_ = value(holding::strategy);
-  if (covers(holding::material)) material_ = value(holding::material);
+  if (covers(holding::material)) {
+    material_ = value(holding::material);
+    material_written_ = true;
+  }
   if (covers(holding::class_x10)) class_x10_ = value(holding::class_x10);
   Outcome outcome;
   if (command) {
     ++issued_sequence_;
     outcome.command_written = true;
-    outcome.command = command_request(PlcCommand(value(holding::command)));
+    outcome.command = command_request(PlcCommand(value(holding::command)), loop);
+    if (outcome.command.command == PlcCommand::dose) material_written_ = false;
   }
   return outcome;
 }
 
-CommandRequest RegisterMap::command_request(PlcCommand command) const {
+CommandRequest RegisterMap::command_request(PlcCommand command, const LoopSnapshot& loop) const {
   CommandRequest request;
   request.sequence = issued_sequence_;
   request.command = command;
   const char* word = "";
   switch (command) {
-    case PlcCommand::dose:
-      std::snprintf(request.line, sizeof request.line, "dose %lu %s", static_cast<unsigned long>(target_g_),
+    case PlcCommand::dose: {
+      // A material the PLC wrote is selected as the console's `material <n>` selects it (defining
+      // it if it is not yet), on the line before the dose; the one already selected is left alone,
+      // so that a dose does not rewrite the settings.
+      char select[16] = "";
+      if (material_written_ && material_ != loop.selected_material) {
+        std::snprintf(select, sizeof select, "material %u\n", unsigned(material_));
+      }
+      std::snprintf(request.line, sizeof request.line, "%sdose %lu %s", select, static_cast<unsigned long>(target_g_),
                     kStrategyNames[strategy_ < kStrategies ? strategy_ : 0]);
       return request;
+    }
     case PlcCommand::abort: word = "abort"; break;
     case PlcCommand::tare: word = "tare"; break;
     case PlcCommand::zero: word = "zero"; break;

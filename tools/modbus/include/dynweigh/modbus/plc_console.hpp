@@ -45,10 +45,11 @@ class PlcConsole final : public hal::ConsolePort {
     Origin origin;
     std::uint16_t sequence;
     bool dose;
+    bool prelude;  // a line before the PLC command's own (`material <n>` before a dose)
   };
   static constexpr std::size_t kAwaited = 16;
 
-  void await(Origin origin, std::uint16_t sequence, bool dose);
+  void await(Origin origin, std::uint16_t sequence, bool dose, bool prelude = false);
   bool awaits(Origin origin) const;
   bool plc_dose_running() const;
   void track_operator_bytes(const char* data, std::size_t length);
@@ -76,6 +77,7 @@ class PlcConsole final : public hal::ConsolePort {
   LoopSnapshot snapshot_;
   ResultFields result_;
   std::uint16_t result_seq_ = 0;
+  std::uint16_t prelude_error_ = 0;  // a prelude's ERR code: the PLC command answers it, not its own OK
   std::int32_t dose_start_100mg_ = 0;
   bool was_dosing_ = false;
   static constexpr std::size_t kFlowWindow = 10;  // jiffies the flow is measured over

@@ -36,13 +36,14 @@ enum class PlcCommand : std::uint16_t {
   dose = 1, abort = 2, tare = 3, zero = 4, clearfault = 5, discharge = 6, accept = 7, topup = 8
 };
 inline constexpr std::uint16_t kCommandRunning = 0xFFFF;  // register 5 while the last command runs
-inline constexpr std::size_t kCommandLineMax = 48;
+inline constexpr std::size_t kCommandLineMax = 48;  // room for `material 15` and a dose, two lines
 
 // What the control loop last published: the input registers and the answer to the PLC's commands.
 struct LoopSnapshot {
   std::uint16_t input[input::count] = {};
   std::uint16_t answered_sequence = 0;  // the last PLC command the console path has answered
   std::uint16_t answer_code = 0;        // its answer: 0 OK, else the console's ERR code
+  std::uint16_t selected_material = 0;  // the material the indicator has selected (0..15)
 };
 
 // A command the PLC wrote, as the console line it stands for.
@@ -80,12 +81,13 @@ class RegisterMap {
   Outcome write(std::uint16_t address, std::uint16_t count, const std::uint8_t* values, const LoopSnapshot& loop);
   static bool value_allowed(std::uint16_t address, std::uint16_t value);
   bool command_running(const LoopSnapshot& loop) const { return issued_sequence_ != loop.answered_sequence; }
-  CommandRequest command_request(PlcCommand command) const;
+  CommandRequest command_request(PlcCommand command, const LoopSnapshot& loop) const;
 
   std::uint32_t target_g_ = 0;
   std::uint16_t staged_target_high_ = 0;  // a high word written alone waits for its low word
   std::uint16_t strategy_ = 0;
   std::uint16_t material_ = 0;
+  bool material_written_ = false;  // the PLC's next dose selects `material_` first
   std::uint16_t class_x10_ = 0;
   std::uint16_t issued_sequence_ = 0;
 };
