@@ -88,6 +88,68 @@ void apply_components(const json& list, Scene& scene, const std::string& origin)
   }
 }
 
+// The scene with ingredient `ingredient`'s silo, valve and height in place of its own: an ingredient
+// is checked, described and written with the same field table as the scene.
+Scene scene_of_ingredient(const Scene& scene, const IngredientParameters& ingredient) {
+  Scene own = scene;
+  own.ingredients.clear();
+  own.silo = ingredient.silo;
+  own.valve = ingredient.valve;
+  own.column.fall_height_m = ingredient.fall_height_m;
+  return own;
+}
+
+bool is_ingredient_field(const char* section, const char* key) {
+  const std::string s = section;
+  return s == "silo" || s == "valve" || (s == "column" && std::string(key) == "fall_height_m");
+}
+
+IngredientParameters parse_ingredient(const json& entry, const Scene& base, std::size_t index, const std::string& origin) {
+  const std::string where = "ingredients[" + std::to_string(index) + "]";
+  if (!entry.is_object()) reject(origin, where, "must be an object");
+  IngredientParameters ingredient{"ingredient" + std::to_string(index), base.silo, base.valve, base.column.fall_height_m};
+  Scene own = scene_of_ingredient(base, ingredient);
+  for (auto it = entry.begin(); it != entry.end(); ++it) {
+    if (it.key().rfind('_', 0) == 0) continue;
+    if (it.key() == "material") {
+      if (!it->is_string() || it->get<std::string>().empty()) reject(origin, where + ".material", "must be a non-empty string");
+      ingredient.material = it->get<std::string>();
+      continue;
+    }
+    if (!it->is_object()) reject(origin, where + "." + it.key(), "unknown field (an ingredient has material, silo, valve, column.fall_height_m)");
+    for (auto inner = it->begin(); inner != it->end(); ++inner) {
+      if (inner.key().rfind('_', 0) == 0) continue;
+      const std::string name = where + "." + it.key() + "." + inner.key();
+      bool found = false;
+      detail::visit_scene_fields(own, [&](const char* section, const char* key, const char*, double& value,
+                                          const detail::FieldRange&) {
+        if (found || it.key() != section || inner.key() != key || !is_ingredient_field(section, key)) return;
+        if (!inner->is_number()) reject(origin, name, "must be a number");
+        value = inner->get<double>();
+        found = true;
+      });
+      if (!found) reject(origin, name, "unknown field (an ingredient has material, silo, valve, column.fall_height_m)");
+    }
+  }
+  ingredient.silo = own.silo;
+  ingredient.valve = own.valve;
+  ingredient.fall_height_m = own.column.fall_height_m;
+  return ingredient;
+}
+
+// Entry i overrides the scene's silo, valve and fall height for ingredient i; entry 0 becomes the
+// scene's own silo, valve and fall height.
+void apply_ingredients(const json& list, Scene& scene, const std::string& origin) {
+  if (!list.is_array() || list.empty() || list.size() > kMaxIngredients) {
+    reject(origin, "ingredients", "must be an array of 1 to " + std::to_string(kMaxIngredients) + " ingredients");
+  }
+  scene.ingredients.clear();
+  for (std::size_t i = 0; i < list.size(); ++i) scene.ingredients.push_back(parse_ingredient(list[i], scene, i, origin));
+  scene.silo = scene.ingredients[0].silo;
+  scene.valve = scene.ingredients[0].valve;
+  scene.column.fall_height_m = scene.ingredients[0].fall_height_m;
+}
+
 }  // namespace
 
 void validate_scene(const Scene& scene, const std::string& origin) {
@@ -111,6 +173,14 @@ void validate_scene(const Scene& scene, const std::string& origin) {
   if (scene.load_cell.capacity_kg * scene.load_cell.overload_fraction * scene.load_cell.counts_per_kg > 2e9) {
     reject(origin, "load_cell.capacity_kg", "its counts overflow a 32-bit ADC word");
   }
+  if (scene.ingredients.empty()) return;
+  if (scene.ingredients.size() > kMaxIngredients) {
+    reject(origin, "ingredients", "at most " + std::to_string(kMaxIngredients) + " ingredients");
+  }
+  if (scene.hourglass.enabled) reject(origin, "ingredients", "the hourglass weighs its one silo: it has no ingredients");
+  for (std::size_t i = 0; i < scene.ingredients.size(); ++i) {
+    validate_scene(scene_of_ingredient(scene, scene.ingredients[i]), origin + ": ingredients[" + std::to_string(i) + "]");
+  }
 }
 
 Scene parse_scene_json(const std::string& text, const std::string& origin) {
@@ -123,7 +193,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin) {
   if (!document.is_object()) throw std::runtime_error(origin + ": a scene is a JSON object");
 
   Scene scene = default_scene();
-  std::set<std::string> known_sections{"name", "source", "components"};
+  std::set<std::string> known_sections{"name", "source", "components", "ingredients"};
   std::set<std::string> used;
   detail::visit_scene_fields(scene, [&](const char* section, const char* key, const char*, double& value,
                                         const detail::FieldRange&) {
@@ -149,7 +219,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin) {
   for (auto it = document.begin(); it != document.end(); ++it) {
     if (it.key().rfind('_', 0) == 0) continue;
     if (!known_sections.count(it.key())) reject(origin, it.key(), "unknown field");
-    if (it->is_object()) {
+    if (it->is_object() && it.key() != "ingredients") {
       for (auto inner = it->begin(); inner != it->end(); ++inner) {
         if (inner.key().rfind('_', 0) == 0) continue;
         const std::string name = it.key() + "." + inner.key();
@@ -166,6 +236,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin) {
     scene.source = source->get<std::string>();
   }
   if (const auto list = document.find("components"); list != document.end()) apply_components(*list, scene, origin);
+  if (const auto list = document.find("ingredients"); list != document.end()) apply_ingredients(*list, scene, origin);
   validate_scene(scene, origin);
   return scene;
 }
@@ -207,6 +278,21 @@ std::string scene_to_json(const Scene& scene, const std::string& notes_json) {
       document[key] = value;
     }
   });
+  if (!scene.ingredients.empty()) {
+    json ingredients = json::array();
+    for (const IngredientParameters& ingredient : scene.ingredients) {
+      json entry = json::object();
+      entry["material"] = ingredient.material;
+      const Scene own = scene_of_ingredient(scene, ingredient);
+      detail::visit_scene_fields(own,
+                                 [&](const char* section, const char* key, const char*, const double& value,
+                                     const detail::FieldRange&) {
+                                   if (is_ingredient_field(section, key)) entry[section][key] = value;
+                                 });
+      ingredients.push_back(entry);
+    }
+    document["ingredients"] = ingredients;
+  }
   return document.dump(2) + "\n";
 }
 
@@ -260,6 +346,20 @@ std::vector<std::pair<std::string, std::string>> describe_scene(const Scene& sce
   lines.emplace_back("in_flight_kg", format_number(model::mass_in_flight(rate, v0, scene.g, h)));
   lines.emplace_back("impulse_force_n", format_number(model::impulse_force(rate, v0, scene.g, h)));
   lines.emplace_back("excess_at_close_kg", format_number(model::reading_excess_at_close_kg(rate, v0, scene.g)));
+  if (!scene.ingredients.empty()) {
+    lines.emplace_back("ingredients", std::to_string(scene.ingredients.size()));
+    for (std::size_t i = 0; i < scene.ingredients.size(); ++i) {
+      const IngredientParameters& ingredient = scene.ingredients[i];
+      const std::string prefix = "ingredient" + std::to_string(i) + "_";
+      const model::BeverlooMaterial<double> own{ingredient.silo.beverloo_C, ingredient.silo.beverloo_k,
+                                                ingredient.silo.grain_d_m, ingredient.silo.bulk_density};
+      lines.emplace_back(prefix + "material", ingredient.material);
+      lines.emplace_back(prefix + "bulk_density", format_number(ingredient.silo.bulk_density));
+      lines.emplace_back(prefix + "full_open_rate_kg_s",
+                         format_number(model::beverloo_discharge_kg_s(own, scene.g, ingredient.silo.bore_m)));
+      lines.emplace_back(prefix + "fall_height_m", format_number(ingredient.fall_height_m));
+    }
+  }
   lines.emplace_back("source", scene.source);
   return lines;
 }

@@ -17,7 +17,8 @@ TEST_P(EveryShippedScene, ReleasedEqualsOnScalePlusInFlightAtEveryStep) {
   const Scene scene = testing::shipped_scene(GetParam());
   Plant plant(scene, 7);
   const double dt = scene.internal_step_s;
-  const double fill = scene.silo.fill_kg;
+  double fill = scene.silo.fill_kg;  // every silo's, for a scene with ingredients
+  for (std::size_t i = 1; i < scene.ingredients.size(); ++i) fill += scene.ingredients[i].silo.fill_kg;
   plant.command_valve(ValveCommand::open);
   for (int i = 0; i < int(std::lround(8.0 / dt)); ++i) {
     if (i == int(std::lround(3.0 / dt))) plant.command_valve(ValveCommand::half);

@@ -34,7 +34,7 @@ def free_udp_ports(count):
 
 
 def key_values(text):
-    return dict(re.findall(r"^([a-z_]+)=(\S*)$", text, re.M))
+    return dict(re.findall(r"^([a-z][a-z0-9_]*)=(\S*)$", text, re.M))
 
 
 def field(line, name):

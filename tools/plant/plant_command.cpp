@@ -1,6 +1,7 @@
 // dynweigh plant: the load-cell module (0x190), the valve module (0x220 in, 0x1A0 out) and the
 // discharge gate module (0x228 in, 0x1A8 out) of docs/can-protocol.md played by the simulator or by
-// a recording, on any CAN transport.
+// a recording, on any CAN transport; with a scene that has ingredients, their valve modules too
+// (ingredient i: 0x220 + i in, 0x1A0 + i out, payloads as 0x220 / 0x1A0).
 //
 // Lockstep (default): wait until the indicator is heard (any frame of node 1), then for each jiffy
 // k: send the valve and gate feedback and sample k, wait for the 0x220 carrying counter k (a 0x228
@@ -65,6 +66,8 @@ struct Stats {
   std::uint32_t watchdog_closes = 0;
   std::uint32_t valve_opens = 0;
   std::uint32_t gate_opens = 0;
+  std::uint32_t ingredient_commands = 0;          // 0x221..0x227 for an ingredient the scene has
+  std::uint32_t ignored_ingredient_commands = 0;  // ... for one it lacks
   long first_open_jiffy = -1;
   long last_close_jiffy = -1;
   std::int32_t indicator_weight_100mg = 0;
@@ -120,6 +123,24 @@ class Modules {
     if (plant_) plant_->command_gate(command == 2 ? sim::GateCommand::open : sim::GateCommand::closed);
   }
 
+  // Ingredient valves 1.. (ingredient 0 is the valve above); a recording has none.
+  std::size_t ingredients() const { return plant_ ? plant_->ingredient_count() : 1; }
+  can::ValveFeedbackMessage ingredient_feedback(std::size_t ingredient) const {
+    return {static_cast<std::uint8_t>(plant_->ingredient_valve_feedback(ingredient)), 0};
+  }
+  void command_ingredient(std::size_t ingredient, sim::ValveCommand command, double delay_s, Stats& stats) {
+    if (plant_ && plant_->command_ingredient_valve(ingredient, command, delay_s)) {
+      ++stats.ingredient_commands;
+    } else {
+      ++stats.ignored_ingredient_commands;
+    }
+  }
+  void close_ingredients() {
+    for (std::size_t i = 1; plant_ && i < plant_->ingredient_count(); ++i) {
+      plant_->command_ingredient_valve(i, sim::ValveCommand::closed);
+    }
+  }
+
   void advance() {
     if (plant_) plant_->advance(kJiffyS);
   }
@@ -131,11 +152,40 @@ class Modules {
   std::uint8_t gate_command_ = 0;  // as its feedback: 0 closed, 3 open
 };
 
-enum class Heard { nothing, answer, gate, other, stopped, closed };
+enum class Heard { nothing, answer, gate, ingredient, other, stopped, closed };
 
-// One frame from the link, sorted; `answer` fills `command`, `gate` fills `gate`.
+// An ingredient valve's command (0x221..0x227): the 0x220 payload for valve `ingredient`.
+struct IngredientCommand {
+  std::size_t ingredient = 0;
+  can::ValveCommandMessage message;
+};
+
+constexpr std::size_t kMaxIngredientNodes = 8;  // nodes 0x20..0x27
+
+std::size_t ingredient_of(std::uint32_t id) {
+  const bool in_range = !(id < can::kIdValveCommand + 1 || id >= can::kIdValveCommand + kMaxIngredientNodes);
+  return in_range ? std::size_t(id - can::kIdValveCommand) : 0;
+}
+
+bool decode_ingredient(const CanFrame& frame, IngredientCommand& out) {
+  if (frame.extended) return false;
+  out.ingredient = ingredient_of(frame.id);
+  if (out.ingredient == 0) return false;
+  CanFrame as_valve = frame;  // the same payload as ingredient 0's
+  as_valve.id = can::kIdValveCommand;
+  return can::decode(as_valve, out.message);
+}
+
+CanFrame encode_ingredient_feedback(std::size_t ingredient, const can::ValveFeedbackMessage& message) {
+  CanFrame frame = can::encode(message);
+  frame.id = can::kIdValveFeedback + std::uint32_t(ingredient);
+  return frame;
+}
+
+// One frame from the link, sorted; `answer` fills `command`, `gate` fills `gate`, `ingredient`
+// fills `ingredient`.
 Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommandMessage& command,
-             can::GateCommandMessage& gate, bool verbose) {
+             can::GateCommandMessage& gate, IngredientCommand& ingredient, bool verbose) {
   CanFrame frame;
   const int got = link.receive(frame, timeout_ms);
   if (got < 0) return Heard::closed;
@@ -177,7 +227,15 @@ Heard listen(CanTransport& link, int timeout_ms, Stats& stats, can::ValveCommand
     case can::MessageKind::gate_feedback:
       return Heard::other;  // our own frames, echoed by a bus
     case can::MessageKind::unknown:
-      return Heard::other;
+      if (frame.extended || frame.remote) return Heard::other;
+      if (ingredient_of(frame.id) != 0) {
+        if (decode_ingredient(frame, ingredient)) {
+          stats.indicator_seen = true;
+          return Heard::ingredient;
+        }
+        break;  // malformed
+      }
+      return Heard::other;  // including our own ingredient feedback, echoed by a bus
   }
   ++stats.malformed;
   return Heard::other;
@@ -187,13 +245,14 @@ int wait_for_indicator(CanTransport& link, const Options& options, Stats& stats)
   const auto deadline = Clock::now() + std::chrono::duration<double>(options.wait_s);
   can::ValveCommandMessage ignored;
   can::GateCommandMessage ignored_gate;
+  IngredientCommand ignored_ingredient;
   while (!stats.indicator_seen) {
     if (g_stop) return 1;
     if (Clock::now() > deadline) {
       std::fprintf(stderr, "dynweigh plant: no indicator heard on %s within %.0f s\n", link.name().c_str(), options.wait_s);
       return 1;
     }
-    const Heard heard = listen(link, 100, stats, ignored, ignored_gate, options.verbose);
+    const Heard heard = listen(link, 100, stats, ignored, ignored_gate, ignored_ingredient, options.verbose);
     if (heard == Heard::closed) {
       std::fprintf(stderr, "dynweigh plant: %s closed before the indicator was heard\n", link.name().c_str());
       return 1;
@@ -202,18 +261,28 @@ int wait_for_indicator(CanTransport& link, const Options& options, Stats& stats)
   return 0;
 }
 
-void send_heartbeats(CanTransport& link, std::uint8_t state) {
+void send_heartbeats(CanTransport& link, std::uint8_t state, std::size_t ingredients) {
   link.send(can::encode(can::HeartbeatMessage{can::kNodeLoadCell, state}));
   link.send(can::encode(can::HeartbeatMessage{can::kNodeValve, state}));
+  for (std::size_t i = 1; i < ingredients; ++i) {
+    link.send(can::encode(can::HeartbeatMessage{std::uint8_t(can::kNodeValve + i), state}));
+  }
   link.send(can::encode(can::HeartbeatMessage{can::kNodeGate, state}));
 }
 
+bool send_ingredient_feedback(CanTransport& link, const Modules& modules) {
+  for (std::size_t i = 1; i < modules.ingredients(); ++i) {
+    if (!link.send(encode_ingredient_feedback(i, modules.ingredient_feedback(i)))) return false;
+  }
+  return true;
+}
+
 bool send_jiffy(CanTransport& link, Modules& modules, std::uint32_t k, can::LoadCellSampleMessage& sample) {
-  if (k % 10 == 0) send_heartbeats(link, can::kNmtOperational);  // every 100 ms of plant time
+  if (k % 10 == 0) send_heartbeats(link, can::kNmtOperational, modules.ingredients());  // every 100 ms of plant time
   sample = modules.sample(k);
   // Feedback first: it is latched when the sample starts the indicator's jiffy.
-  return link.send(can::encode(modules.feedback())) && link.send(can::encode(modules.gate_feedback())) &&
-         link.send(can::encode(sample));
+  return link.send(can::encode(modules.feedback())) && send_ingredient_feedback(link, modules) &&
+         link.send(can::encode(modules.gate_feedback())) && link.send(can::encode(sample));
 }
 
 int run_lockstep(CanTransport& link, const Options& options, Modules& modules, Stats& stats) {
@@ -226,10 +295,16 @@ int run_lockstep(CanTransport& link, const Options& options, Modules& modules, S
     const auto deadline = Clock::now() + std::chrono::duration<double>(options.timeout_s);
     can::ValveCommandMessage command;
     can::GateCommandMessage gate;
+    IngredientCommand ingredient;
     for (;;) {
-      const Heard heard = listen(link, 100, stats, command, gate, options.verbose);
+      const Heard heard = listen(link, 100, stats, command, gate, ingredient, options.verbose);
       if (heard == Heard::gate) {  // the same jiffy's, before its 0x220
         modules.command_gate(gate.command, stats);
+        continue;
+      }
+      if (heard == Heard::ingredient) {  // likewise
+        modules.command_ingredient(ingredient.ingredient, static_cast<sim::ValveCommand>(ingredient.message.command),
+                                   ingredient.message.delay_100us * 1e-4, stats);
         continue;
       }
       if (heard == Heard::answer) {
@@ -243,6 +318,7 @@ int run_lockstep(CanTransport& link, const Options& options, Modules& modules, S
       if (g_stop) return stats.end = "signal", 0;
       if (Clock::now() > deadline) {
         modules.command(sim::ValveCommand::closed, 0.0, stats, k);  // fail-safe
+        modules.close_ingredients();
         modules.command_gate(0, stats);
         ++stats.watchdog_closes;
         std::fprintf(stderr, "dynweigh plant: no answer to sample %u within %.0f s\n", unsigned(sample.counter), options.timeout_s);
@@ -280,8 +356,13 @@ int run_realtime(CanTransport& link, const Options& options, Modules& modules, S
     if (link.has_buffered_input() || (fds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
       can::ValveCommandMessage command;
       can::GateCommandMessage gate;
-      const Heard heard = listen(link, 0, stats, command, gate, options.verbose);
+      IngredientCommand ingredient;
+      const Heard heard = listen(link, 0, stats, command, gate, ingredient, options.verbose);
       if (heard == Heard::gate) modules.command_gate(gate.command, stats);
+      if (heard == Heard::ingredient) {
+        modules.command_ingredient(ingredient.ingredient, static_cast<sim::ValveCommand>(ingredient.message.command),
+                                   ingredient.message.delay_100us * 1e-4, stats);
+      }
       if (heard == Heard::stopped) return finish("indicator_stopped");
       if (heard == Heard::closed) return finish("link_closed");
       if (heard == Heard::answer) {
@@ -301,6 +382,7 @@ int run_realtime(CanTransport& link, const Options& options, Modules& modules, S
       }
       if (!watchdog_tripped && k - last_command_jiffy >= std::uint32_t(kWatchdogJiffies)) {
         modules.command(sim::ValveCommand::closed, 0.0, stats, k);
+        modules.close_ingredients();     // the ingredient modules' watchdogs too
         modules.command_gate(0, stats);  // the gate module's watchdog too
         ++stats.watchdog_closes;
         watchdog_tripped = true;
@@ -322,6 +404,8 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
   std::printf("watchdog_closes=%u\n", stats.watchdog_closes);
   std::printf("valve_opens=%u\n", stats.valve_opens);
   std::printf("gate_opens=%u\n", stats.gate_opens);
+  std::printf("ingredient_commands=%u\n", stats.ingredient_commands);
+  std::printf("ignored_ingredient_commands=%u\n", stats.ignored_ingredient_commands);
   std::printf("first_open_jiffy=%ld\n", stats.first_open_jiffy);
   std::printf("last_close_jiffy=%ld\n", stats.last_close_jiffy);
   std::printf("indicator_weight_g=%.1f\n", stats.indicator_weight_100mg / 10.0);
@@ -334,6 +418,11 @@ void print_summary(const Stats& stats, const std::optional<sim::Plant>& plant, c
     std::printf("refilled_kg=%.6f\n", t.refilled_kg);
     std::printf("discharged_kg=%.6f\n", t.discharged_kg);
     std::printf("plant_time_s=%.3f\n", t.time_s);
+    for (std::size_t i = 1; i < plant->ingredient_count(); ++i) {
+      const sim::IngredientTruth& own = t.ingredients[i];
+      std::printf("ingredient%zu_released_kg=%.6f\n", i, own.released_kg);
+      std::printf("ingredient%zu_silo_kg=%.6f\n", i, own.silo_kg);
+    }
   }
   std::fflush(stdout);
 }
@@ -393,7 +482,7 @@ int run_plant_command(int argc, char** argv) {
     if (!options.realtime && wait_for_indicator(*link, options, stats) != 0) return 1;
     const int status = options.realtime ? run_realtime(*link, options, modules, stats)
                                         : run_lockstep(*link, options, modules, stats);
-    send_heartbeats(*link, can::kNmtStopped);  // the indicator learns that no sample will come
+    send_heartbeats(*link, can::kNmtStopped, modules.ingredients());  // the indicator learns that no sample will come
     if (!replay.empty()) std::printf("replay_samples=%zu\n", replay.size());
     print_summary(stats, plant, link->name());
     return status;

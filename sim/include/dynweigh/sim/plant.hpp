@@ -8,8 +8,10 @@
 // parcels leave the silo at their release instant and land at their exact landing instant,
 // momentum arrives with the landing speed consistent with the time in the air. So mass is
 // conserved at every step and the hourglass' impulse balance holds to rounding.
+#include <array>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "dynweigh/sim/components.hpp"
 #include "dynweigh/sim/discharge_gate.hpp"
@@ -24,6 +26,15 @@
 #include "dynweigh/sim/silo.hpp"
 
 namespace dynweigh::sim {
+
+// One ingredient's stream (a scene without ingredients has only ingredient 0).
+struct IngredientTruth {
+  double released_kg = 0.0;     // out of its silo since the start
+  double silo_kg = 0.0;         // still in its silo
+  double refilled_kg = 0.0;     // poured into its silo from upstream since the start
+  double in_flight_kg = 0.0;    // between its orifice and the pile
+  double stroke = 0.0;          // its valve, 0 shut .. 1 open
+};
 
 // The plant's own view, which no indicator sees: the truth a fill is judged against.
 struct PlantTruth {
@@ -43,6 +54,9 @@ struct PlantTruth {
   double gate_stroke = 0.0;     // 0 shut .. 1 open
   double force_impulse_n_s = 0.0;  // exact time integral of force_n since the start
   std::uint64_t avalanches = 0;
+  // Per ingredient, in valve order: the totals above (released, silo, refilled, in flight) are their
+  // sums; stroke above is ingredient 0's.
+  std::array<IngredientTruth, kMaxIngredients> ingredients{};
 };
 
 class Plant {
@@ -69,6 +83,12 @@ class Plant {
   // A jammed gate holds its stroke whatever it is told (a fault to supervise).
   void jam_gate(bool jammed) { gate_.jam(jammed); }
 
+  // The ingredients' valves (docs/scenes.md, `ingredients`): ingredient 0 is the valve above.
+  // False, and nothing happens, for an ingredient the scene does not have.
+  std::size_t ingredient_count() const { return 1 + extra_.size(); }
+  bool command_ingredient_valve(std::size_t ingredient, ValveCommand command, double delay_s = 0.0);
+  ValvePosition ingredient_valve_feedback(std::size_t ingredient) const;
+
   const PlantTruth& truth() const { return truth_; }
   ValvePosition valve_feedback() const { return valve_.feedback(); }
   const Scene& scene() const { return scene_; }
@@ -90,6 +110,24 @@ class Plant {
   void refill_step();
   double discharge_step(double dt);
   double fall_height_m();
+  // Ingredients 1.. (ingredient 0 is valve_, silo_, column_): each its own stream, landing on the
+  // same pile from its own height.
+  struct ExtraStream {
+    ExtraStream(const IngredientParameters& p, double g, std::size_t capacity, std::uint64_t seed);
+    IngredientParameters parameters;
+    PneumaticValve valve;
+    Silo silo;
+    FallingColumn column;
+    ValveCommand last_command = ValveCommand::closed;
+    bool refilling = false;
+  };
+  struct Release {
+    double weighted_kg_s = 0.0;  // sum of mass times its time off the silo in the step
+    double momentum_n_s = 0.0;
+  };
+  Release release_step(Silo& silo, PneumaticValve& valve, FallingColumn& column, double begin, double end,
+                       double& own_released_kg);
+  void refill_extra(ExtraStream& stream, IngredientTruth& truth);
   double support_force_n() const { return platform_ ? platform_->support_force_n() : rigid_support_force_n_; }
 
   Scene scene_;
@@ -104,6 +142,7 @@ class Plant {
   std::optional<ImpactRelaxation> impact_;
   std::optional<PileAvalanches> avalanches_;
   std::optional<ScalePlatform> platform_;
+  std::vector<ExtraStream> extra_;
   LoadCell load_cell_;
   double rigid_support_force_n_;
   double test_weight_kg_ = 0.0;

@@ -2,6 +2,7 @@
 // A scene: the parameters of every component and which effects are switched on. The defaults are
 // the thesis' real setup (its section 2.2, table 2.2) with the disturbances of the default scene (docs/scenes.md).
 // Scenes other than the two built in here live as JSON files in scenes/ (scene_file.hpp).
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,6 +106,18 @@ struct HourglassParameters {
   double silo_tare_kg = 10.0;            // the empty silo, its frame and the extra plate
 };
 
+// One of up to kMaxIngredients streams into the one weigh hopper: its own silo (material and
+// bore), valve and orifice height above the container floor. Ingredient 0 is the scene's silo,
+// valve and column.fall_height_m.
+struct IngredientParameters {
+  std::string material;
+  SiloParameters silo;
+  ValveParameters valve;
+  double fall_height_m = 1.200;
+};
+
+inline constexpr std::size_t kMaxIngredients = 8;
+
 struct Scene {
   std::string name = "default";
   std::string source = "thesis table 2.2 (real setup), disturbances of docs/scenes.md";
@@ -121,6 +134,10 @@ struct Scene {
   LoadCellParameters load_cell;
   CreepParameters creep;
   HourglassParameters hourglass;
+  // Empty: one ingredient, the silo and valve above. Otherwise every ingredient in valve order
+  // (2..kMaxIngredients); entry 0 repeats silo, valve and column.fall_height_m (the loader keeps
+  // them equal).
+  std::vector<IngredientParameters> ingredients;
 };
 
 Scene default_scene();
