@@ -42,8 +42,19 @@ Holding holding_of(const RegisterMap& map, const LoopSnapshot& loop) {
 
 void check_command_line(const CommandRequest& c, const RegisterMap& map) {
   if (std::memchr(c.line, '\0', sizeof c.line) == nullptr) violated("command line not terminated");
-  const std::string line = c.line;
+  std::string line = c.line;
   if (c.command == PlcCommand::dose) {
+    // A material the PLC wrote is selected on a line of its own before the dose.
+    if (line.rfind("material ", 0) == 0) {
+      const std::size_t end = line.find('\n');
+      if (end == std::string::npos) violated("material line without the dose after it");
+      const std::string number = line.substr(9, end - 9);
+      if (number.empty() || number.size() > 2 || number.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoi(number) > 15) {
+        violated("material line names no material 0..15");
+      }
+      line = line.substr(end + 1);
+    }
     const std::string expected = "dose " + std::to_string(map.target_g()) + " ";
     if (line.rfind(expected, 0) != 0) violated("dose line does not carry the set point");
     const std::string strategy = line.substr(expected.size());
