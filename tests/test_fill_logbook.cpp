@@ -2,7 +2,6 @@
 // settings' non-volatile memory across a restart, listed by `log`, and a write cut at any byte of
 // a result's record loses that record alone.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +14,7 @@
 #include "dynweigh/hal/host/cuttable_nvm.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
 #include "support/console_session.hpp"
+#include "support/temp_file.hpp"
 
 namespace dynweigh::testing {
 namespace {
@@ -27,24 +27,9 @@ std::vector<std::string> lines_starting(const std::string& output, const std::st
   return found;
 }
 
-class TempFile {
- public:
-  TempFile() {
-    char name[] = "/tmp/dynweigh_logbook_XXXXXX";
-    const int fd = ::mkstemp(name);
-    if (fd >= 0) ::close(fd);
-    path_ = name;
-    std::remove(path_.c_str());
-  }
-  ~TempFile() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 TEST(FillLogbook, ResultsSurviveARestartWithTheSameNvmFile) {
-  TempFile file;
+  TempFile file{"dynweigh_logbook"};
   std::vector<std::string> results;
   for (int run = 0; run < 2; ++run) {
     // As dynweigh-fw --nvm FILE starts: the file prepared, its record loaded (none the first time).

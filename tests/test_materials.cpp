@@ -2,7 +2,6 @@
 // across a restart; each material's statistics against the logbook, and its totalizers kept
 // power-safe (a restart, and a write cut at every byte).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +14,7 @@
 #include "dynweigh/hal/host/cuttable_nvm.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
 #include "support/console_session.hpp"
+#include "support/temp_file.hpp"
 
 namespace dynweigh::testing {
 namespace {
@@ -29,21 +29,6 @@ std::vector<std::string> lines_starting(const std::string& output, const std::st
 
 double number(const std::string& line, const std::string& key) { return std::stod(field(line, key)); }
 
-class TempFile {
- public:
-  TempFile() {
-    char name[] = "/tmp/dynweigh_materials_XXXXXX";
-    const int fd = ::mkstemp(name);
-    if (fd >= 0) ::close(fd);
-    path_ = name;
-    std::remove(path_.c_str());
-  }
-  ~TempFile() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 // A board started on `file` as dynweigh-fw --nvm starts: the file prepared, its record loaded.
 struct BoardOnFile {
@@ -127,7 +112,7 @@ TEST(Materials, TheDoseUsesTheSelectedMaterialsDensityAndRecordsItsNumber) {
 }
 
 TEST(Materials, TheTableSurvivesARestartWithTheSameNvmFile) {
-  TempFile file;
+  TempFile file{"dynweigh_materials"};
   std::vector<std::string> before;
   {
     BoardOnFile board(file.path());
@@ -208,7 +193,7 @@ TEST(MaterialStatistics, EachMaterialsEqualTheValuesComputedFromTheLogbook) {
 }
 
 TEST(MaterialStatistics, TotalizersSurviveARestartWithTheSameNvmFile) {
-  TempFile file;
+  TempFile file{"dynweigh_materials"};
   std::string before;
   {
     BoardOnFile board(file.path());
@@ -225,7 +210,7 @@ TEST(MaterialStatistics, TotalizersSurviveARestartWithTheSameNvmFile) {
 // A version-5 --nvm file (its settings slots smaller than today's, the logbook right behind them):
 // grown on start, its logbook moved behind today's slots, every record still readable.
 TEST(MaterialStatistics, AVersion5NvmFilesLogbookIsMovedAndKept) {
-  TempFile file;
+  TempFile file{"dynweigh_materials"};
   constexpr std::size_t kOldLogbook = hal::host::kVersion5FileBytes - hal::host::kFileLogbookSlots * firmware::kLogRecordSize;
   std::vector<std::uint8_t> bytes(hal::host::kVersion5FileBytes, 0xFF);
   for (std::uint32_t seq = 1; seq <= 3; ++seq) {

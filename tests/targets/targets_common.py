@@ -33,6 +33,19 @@ def free_udp_ports(count):
     return ports
 
 
+def plant_on_udp(dynweigh, scene, jiffies, wait_s=20):
+    """`dynweigh plant` on the udp transport, with this script as the indicator: (socket, plant's
+    address, plant process). The socket is bound where the plant sends."""
+    plant_port, own_port = free_udp_ports(2)
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sock.bind(("127.0.0.1", own_port))
+    plant = subprocess.Popen([dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{own_port}",
+                              "--scene", scene, "--jiffies", str(jiffies), "--wait", str(wait_s),
+                              "--timeout", str(wait_s)],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return sock, ("127.0.0.1", plant_port), plant
+
+
 def key_values(text):
     return dict(re.findall(r"^([a-z][a-z0-9_]*)=(\S*)$", text, re.M))
 

@@ -7,10 +7,9 @@ closed at jiffy 600 reports moving then closed; the plant's summary says what it
 import argparse
 import socket
 import struct
-import subprocess
 import time
 
-from targets_common import fail, frame, free_udp_ports, key_values, parse, stop
+from targets_common import fail, frame, key_values, parse, plant_on_udp, stop
 
 ID_SAMPLE, ID_VALVE_COMMAND, ID_GATE_COMMAND, ID_GATE_FEEDBACK = 0x190, 0x220, 0x228, 0x1A8
 JIFFIES = 700
@@ -23,13 +22,7 @@ a = argparse.ArgumentParser()
 a.add_argument("--dynweigh", required=True)
 args = a.parse_args()
 
-plant_port, fw_port = free_udp_ports(2)
-sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-sock.bind(("127.0.0.1", fw_port))
-peer = ("127.0.0.1", plant_port)
-plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
-                          "--scene", "default", "--jiffies", str(JIFFIES), "--wait", "20", "--timeout", "20"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+sock, peer, plant = plant_on_udp(args.dynweigh, "default", JIFFIES)
 gate_positions, raws = [], []
 try:
     # Heartbeats until the plant's first sample: it starts once it has heard the indicator.

@@ -8,10 +8,9 @@ lacks) is ignored and counted in ignored_ingredient_commands."""
 import argparse
 import socket
 import struct
-import subprocess
 import time
 
-from targets_common import fail, frame, free_udp_ports, key_values, parse, stop
+from targets_common import fail, frame, key_values, parse, plant_on_udp, stop
 
 ID_SAMPLE, ID_VALVE_COMMAND = 0x190, 0x220
 ID_INGREDIENT_1_COMMAND, ID_INGREDIENT_7_COMMAND = 0x221, 0x227
@@ -25,13 +24,7 @@ a = argparse.ArgumentParser()
 a.add_argument("--dynweigh", required=True)
 args = a.parse_args()
 
-plant_port, fw_port = free_udp_ports(2)
-sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-sock.bind(("127.0.0.1", fw_port))
-peer = ("127.0.0.1", plant_port)
-plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
-                          "--scene", "batching", "--jiffies", str(JIFFIES), "--wait", "20", "--timeout", "20"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+sock, peer, plant = plant_on_udp(args.dynweigh, "batching", JIFFIES)
 positions, raws, others = [], [], set()
 try:
     sock.settimeout(0.1)
