@@ -45,6 +45,8 @@ constexpr CommandSpec kCommands[] = {
     {"topup", "topup  a top-up pulse for the held result under its target, then judged again", &ConsoleCommands::topup},
     {"discharge", "discharge  empty the hopper through the gate (open, empty and stable, closed: proven)",
      &ConsoleCommands::discharge},
+    {"batch", "batch <m>:<g> [<m>:<g> ...] [<strategy>]  up to 8 ingredients into the hopper, material m from valve m (0..7)",
+     &ConsoleCommands::batch},
     {"log", "log [<n>] | log <from> <to>  the logbook: the last n results (10), or by sequence number", &ConsoleCommands::log},
     {"material", "material [<n> [name <s> | density <kg/m^3> | class <x>]]  list, select (n 0..15) or edit the "
      "materials (persists)",

@@ -11,7 +11,7 @@
 namespace dynweigh::firmware {
 
 struct CommandArguments {
-  static constexpr std::size_t kMax = 4;
+  static constexpr std::size_t kMax = 2 + BatchCycle::kMaxIngredients;  // `batch`, its ingredients, a strategy
   const char* word[kMax];
   std::size_t count;  // kMax + 1: more words than any command takes
 };
@@ -41,6 +41,8 @@ struct ConsoleCommands {
   static void topup(Indicator& indicator, const Arguments& args);
   // The discharge gate (discharge_commands.cpp).
   static void discharge(Indicator& indicator, const Arguments& args);
+  // A batch of ingredients into one hopper (batch_commands.cpp).
+  static void batch(Indicator& indicator, const Arguments& args);
   // The test data (test_data_commands.cpp).
   static void starttestdata(Indicator& indicator, const Arguments& args);
   static void readtestdata(Indicator& indicator, const Arguments& args);

@@ -102,6 +102,9 @@ void Indicator::report_result() {
     return console_.error(4, "fault nvm_error");
   }
   if (!totals_kept) raise(Fault::nvm_error);  // the fill is logged; its totals could not be kept
+  // A batch's ingredient: the next one doses on top of it, the last one ends the batch.
+  if (batch_.active() && fault_ == Fault::none && batch_.next(concluding_.final_g)) return start_batch_ingredient();
+  if (batch_.active()) end_batch(fault_ == Fault::none);
   // The dose answers once the hopper is empty again: the next command finds it so.
   if (fault_ == Fault::none && settings_.parameters.get(ParameterId::auto_discharge) != 0.0f) return start_discharge();
   ok();

@@ -27,6 +27,7 @@ Outputs Indicator::step(const Inputs& inputs) {
   settings_changed_ = false;
   jiffy_ = inputs.jiffy;
   gate_position_ = inputs.gate_position;
+  ingredient_valves_ = inputs.ingredient_valves;
   sense(inputs);
   supervise(inputs);
   command(inputs.load_cell.fresh);
@@ -117,6 +118,7 @@ Outputs Indicator::report(const Inputs& inputs) {
   continue_log_print();
   Outputs out;
   out.valve = valve_;
+  out.ingredient = ingredient_;
   out.gate = gate_;
   out.valve_delay_100us = valve_delay_100us_;
   out.answered_counter = inputs.load_cell.counter;
@@ -211,6 +213,7 @@ void Indicator::raise(Fault fault) {
   if (dose_running()) dosing_.abort();
   follow_up_.finish();
   discharge_.abort();
+  if (batch_.active()) end_batch(false);  // BATCH ok=0 before the ERR
   if (dose_command_pending_ || discharge_command_pending_ || scale_.adjusting()) {
     dose_command_pending_ = false;
     discharge_command_pending_ = false;

@@ -8,6 +8,7 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
       load_cell_(plant_),
       valve_(plant_, kJiffyS),
       gate_(plant_),
+      ingredients_(plant_, kJiffyS),
       indicator_(settings ? *settings : factory_settings(plant_)),
       store_(store) {
   indicator_.attach_logbook(store && store->logbook() ? store->logbook() : &ram_logbook_.logbook());
@@ -16,7 +17,7 @@ LockstepSession::LockstepSession(const sim::Scene& scene, std::uint64_t seed,
 
 firmware::Outputs LockstepSession::step(ConsolePort& console) {
   const sim::PlantTruth truth = plant_.truth();  // at the instant the sample is taken
-  Ports ports{load_cell_, valve_, console, store_, save_report_, nullptr, recorder_, &gate_};
+  Ports ports{load_cell_, valve_, console, store_, save_report_, nullptr, recorder_, &gate_, &ingredients_};
   record_ = run_one_jiffy(indicator_, ports, jiffy_);
   save_report_ = ports.save_report;
   row_ = TraceRow{truth.time_s, jiffy_, truth.static_kg, truth.in_flight_kg, truth.force_n,

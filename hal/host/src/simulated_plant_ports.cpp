@@ -23,6 +23,27 @@ firmware::ValvePosition SimulatedValve::position() const {
   return plant_.valve_feedback();
 }
 
+std::uint8_t SimulatedIngredientValves::present() const {
+  const std::size_t n = plant_.ingredient_count();
+  return std::uint8_t((1u << (n < 8 ? n : 8)) - 1u);
+}
+
+// A scene without ingredients has no valves here: nothing is commanded, nothing changes.
+void SimulatedIngredientValves::command(std::uint8_t ingredient, firmware::ValveCommand command, std::uint8_t delay_100us) {
+  const double delay_s = delay_100us < jiffy_s_ * 1e4 ? delay_100us * 1e-4 : 0.0;
+  for (std::size_t i = 1; i < plant_.ingredient_count(); ++i) {
+    if (i == ingredient) {
+      plant_.command_ingredient_valve(i, command, delay_s);
+    } else {
+      plant_.command_ingredient_valve(i, firmware::ValveCommand::closed);
+    }
+  }
+}
+
+firmware::ValvePosition SimulatedIngredientValves::position(std::uint8_t ingredient) const {
+  return plant_.ingredient_valve_feedback(ingredient);
+}
+
 void SimulatedGate::command(firmware::GateCommand command) {
   plant_.command_gate(command == firmware::GateCommand::open ? sim::GateCommand::open : sim::GateCommand::closed);
 }

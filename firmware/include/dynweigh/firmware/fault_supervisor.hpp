@@ -110,6 +110,9 @@ class FaultSupervisor {
   std::uint32_t rejected_samples() const { return rejected_total_; }
   // What the valve's feedback has shown of its timing (the model cutoff times its close with it).
   const ValveTimingMonitor& valve_timing() const { return timing_; }
+  // Another valve takes over (a batch's next ingredient): the timing the feedback showed is the last
+  // one's. The watch in force (the last close's) keeps its limits; the next command sets new ones.
+  void another_valve() { timing_.forget(); }
 
   // Whether the running dose's valve was open long enough to deliver: if not, a dose that closed
   // before its valve opened delivered nothing through no fault of the plant (no `no_flow`).

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "dynweigh/firmware/batch_cycle.hpp"
 #include "dynweigh/firmware/console.hpp"
 #include "dynweigh/firmware/discharge_cycle.hpp"
 #include "dynweigh/firmware/dosing_cycle.hpp"
@@ -64,6 +65,8 @@ class Indicator {
   bool weight_known() const;
   float last_prediction_g() const { return dosing_.last_prediction_g(); }
   Fault fault() const { return fault_; }
+  // Whose valve the last Outputs' `valve` commanded: the board reads that one's feedback next.
+  std::uint8_t valve_ingredient() const { return ingredient_; }
   const FaultSupervisor& supervisor() const { return supervisor_; }
   // A command is still running or queued: a scripted console waits before sending the next line.
   bool busy() const;
@@ -136,6 +139,11 @@ class Indicator {
   void start_discharge();
   void advance_discharge();
   void continue_print();
+  // A batch's ingredients, one dose each (batch_commands.cpp).
+  void start_batch_ingredient();
+  void select_material(std::size_t n);
+  void use_valve(std::uint8_t ingredient);
+  void end_batch(bool complete);
   void continue_log_print();
 
   PersistentSettings settings_;
@@ -149,6 +157,8 @@ class Indicator {
   DosingCycle dosing_;
   ToleranceFollowUp follow_up_;
   DischargeCycle discharge_;
+  BatchCycle batch_;
+  DosingStrategy batch_strategy_ = DosingStrategy::model;
 
   // A dose's command and result.
   bool dose_command_pending_ = false;  // `dose` answers when it ends
@@ -181,6 +191,8 @@ class Indicator {
   ValveCommand manual_valve_ = ValveCommand::closed;
   ValveCommand valve_ = ValveCommand::closed;
   std::uint8_t valve_delay_100us_ = 0;  // how far into its jiffy valve_ acts
+  std::uint8_t ingredient_ = 0;          // whose valve valve_ commands (a batch's ingredient)
+  std::uint8_t ingredient_valves_ = 1;   // this jiffy's Inputs: bit i, ingredient valve i is there
   GateCommand gate_ = GateCommand::closed;
   GatePosition gate_position_ = GatePosition::closed;  // this jiffy's feedback
 };

@@ -46,6 +46,9 @@ struct Inputs {
   LoadCellInput load_cell;
   ValvePosition valve_position = ValvePosition::closed;
   GatePosition gate_position = GatePosition::closed;  // a board without a gate reports it closed
+  // Bit i: the plant has ingredient valve i (bit 0, the valve above, always). valve_position is the
+  // feedback of the valve the last Outputs commanded (Outputs::ingredient).
+  std::uint8_t ingredient_valves = 0x01;
   const char* console_rx = nullptr;  // bytes that arrived since the last jiffy
   std::size_t console_rx_length = 0;
   SettingsSave settings_save = SettingsSave::none;
@@ -58,6 +61,9 @@ inline constexpr std::int32_t kWeightUnknown100mg = INT32_MIN;
 struct Outputs {
   ValveCommand valve = ValveCommand::closed;
   GateCommand gate = GateCommand::closed;  // the discharge gate (0x228); a board without one ignores it
+  // Whose valve `valve` commands: 0 the valve above (0x220), 1..7 a batch's ingredient valves
+  // (0x221..0x227). Every other valve is commanded closed.
+  std::uint8_t ingredient = 0;
   std::uint8_t valve_delay_100us = 0;  // 0x220 (docs/can-protocol.md): apply the command this much into the jiffy
   std::uint16_t answered_counter = 0;  // the sample this jiffy answers
   IndicatorState state = IndicatorState::idle;

@@ -21,6 +21,7 @@ struct JiffyRecord {
   firmware::LoadCellInput load_cell;
   firmware::ValvePosition valve_position = firmware::ValvePosition::closed;
   firmware::GatePosition gate_position = firmware::GatePosition::closed;
+  std::uint8_t ingredient_valves = 0x01;
   firmware::SettingsSave settings_save = firmware::SettingsSave::none;
   char console_rx[kConsoleRxBytes] = {};
   std::size_t console_rx_length = 0;
@@ -35,6 +36,7 @@ struct JiffyRecord {
     in.load_cell = load_cell;
     in.valve_position = valve_position;
     in.gate_position = gate_position;
+    in.ingredient_valves = ingredient_valves;
     in.console_rx = console_rx;
     in.console_rx_length = console_rx_length;
     in.settings_save = settings_save;

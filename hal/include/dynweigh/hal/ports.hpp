@@ -46,6 +46,19 @@ class GatePort {
   virtual firmware::GatePosition position() const = 0;
 };
 
+// The valves of a batch's ingredients 1..7 (ingredient 0's is the ValvePort), all above the one
+// hopper. Optional: a board without them has ingredient 0 alone.
+class IngredientValvesPort {
+ public:
+  virtual ~IngredientValvesPort() = default;
+  // Bit i: ingredient valve i is there (bit 0, the ValvePort's, always).
+  virtual std::uint8_t present() const = 0;
+  // Valve `ingredient` (1..7) takes the command, every other one of them is commanded closed;
+  // `ingredient` 0: all of them closed (ingredient 0's valve is the ValvePort's).
+  virtual void command(std::uint8_t ingredient, firmware::ValveCommand command, std::uint8_t delay_100us) = 0;
+  virtual firmware::ValvePosition position(std::uint8_t ingredient) const = 0;
+};
+
 // The serial console: a byte stream in both directions, never blocking.
 class ConsolePort {
  public:

@@ -54,6 +54,7 @@ class LockstepSession {
   SimulatedLoadCell load_cell_;
   SimulatedValve valve_;
   SimulatedGate gate_;
+  SimulatedIngredientValves ingredients_;
   firmware::Indicator indicator_;
   SettingsStore* store_;
   firmware::RamLogbook<kRamLogbookSlots> ram_logbook_;  // without a store's

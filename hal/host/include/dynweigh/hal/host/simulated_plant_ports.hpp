@@ -38,6 +38,19 @@ class SimulatedGate final : public GatePort {
   sim::Plant& plant_;
 };
 
+// The plant's ingredient valves 1.. (its scene's `ingredients`), timed within the jiffy as the valve is.
+class SimulatedIngredientValves final : public IngredientValvesPort {
+ public:
+  SimulatedIngredientValves(sim::Plant& plant, double jiffy_s) : plant_(plant), jiffy_s_(jiffy_s) {}
+  std::uint8_t present() const override;
+  void command(std::uint8_t ingredient, firmware::ValveCommand command, std::uint8_t delay_100us) override;
+  firmware::ValvePosition position(std::uint8_t ingredient) const override;
+
+ private:
+  sim::Plant& plant_;
+  double jiffy_s_;
+};
+
 // An indicator freshly calibrated to this plant (docs/programs.md: "starts calibrated to the simulated plant").
 firmware::PersistentSettings factory_settings(const sim::Plant& plant);
 
