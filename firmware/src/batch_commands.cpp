@@ -18,8 +18,9 @@ void ConsoleCommands::batch(Indicator& indicator, const Arguments& args) {
   // A last word without a colon names the strategy every ingredient is dosed with.
   DosingStrategy strategy = DosingStrategy::model;
   std::size_t words = args.count;
-  if (args.count > 2 && !std::strchr(args.word[args.count - 1], ':')) {
-    if (!parse_strategy(args.word[args.count - 1], strategy)) return console.error(2, "unknown strategy");
+  const char* last = args.word[args.count - 1];
+  if (args.count > 2 && !std::strchr(last, ':') && (last[0] < '0' || last[0] > '9')) {
+    if (!parse_strategy(last, strategy)) return console.error(2, "unknown strategy");
     if (!strategy_available(strategy)) return console.error(2, "strategy not in this build");
     --words;
   }
