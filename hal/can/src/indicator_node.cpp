@@ -5,8 +5,15 @@
 namespace dynweigh::hal::can {
 namespace {
 
+// The ingredient valve (1..7) a standard frame with this id and `base` (0x220 or 0x1A0) is for, or 0.
+std::uint8_t ingredient_of(const CanFrame& frame, std::uint32_t base) {
+  if (frame.extended || frame.remote || frame.id <= base || frame.id >= base + CanIngredientValves::kValves) return 0;
+  return std::uint8_t(frame.id - base);
+}
+
 // Our own frames, echoed by a bus, prove nothing about the plant's side of it.
 bool from_the_plant(const CanFrame& frame) {
+  if (ingredient_of(frame, kIdValveCommand) != 0) return false;
   switch (classify(frame)) {
     case MessageKind::valve_command:
     case MessageKind::gate_command:
@@ -26,7 +33,7 @@ IndicatorNode::IndicatorNode(firmware::Indicator& indicator, ConsolePort& consol
     : indicator_(indicator),
       link_(link),
       heartbeat_jiffies_(options.heartbeat_jiffies),
-      ports_{load_cell_, valve_, console, options.settings, firmware::SettingsSave::none, options.probe, nullptr, &gate_} {}
+      ports_{load_cell_, valve_, console, options.settings, firmware::SettingsSave::none, options.probe, nullptr, &gate_, &ingredients_} {}
 
 IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
   if (from_the_plant(frame)) heard_since_jiffy_ = plant_heard_ = true;
@@ -51,8 +58,17 @@ IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
       sequence_.reset();  // a plant that comes back counts afresh
       return Heard::plant_stopped;
     }
-    default:
-      return Heard::ignored;
+    default: {
+      // An ingredient valve's feedback: the 0x1A0 payload under its own id.
+      const std::uint8_t ingredient = ingredient_of(frame, kIdValveFeedback);
+      if (ingredient == 0) return Heard::ignored;
+      CanFrame as_valve = frame;
+      as_valve.id = kIdValveFeedback;
+      ValveFeedbackMessage m;
+      if (!decode(as_valve, m)) return Heard::ignored;
+      ingredients_.deliver_position(ingredient, firmware::ValvePosition{m.position});
+      return Heard::ingredient_position;
+    }
   }
 }
 
@@ -87,6 +103,7 @@ void IndicatorNode::run_jiffy(firmware::LinkStatus link, bool answer) {
     if (gate_.commanded()) {
       link_.send(encode(GateCommandMessage{std::uint8_t(gate_.last_command()), outputs.answered_counter}));
     }
+    send_ingredient_commands(outputs.answered_counter);
     // Exactly one 0x220 per sample: the lockstep acknowledgement and the valve module's watchdog.
     link_.send(encode(ValveCommandMessage{std::uint8_t(valve_.last_command()), valve_.last_delay_100us(),
                                           outputs.answered_counter}));
@@ -97,6 +114,16 @@ void IndicatorNode::run_jiffy(firmware::LinkStatus link, bool answer) {
   if (heartbeat_jiffies_ != 0 && jiffy_ % heartbeat_jiffies_ == 0) send_heartbeat(kNmtOperational);
 }
 
+// The ingredient valves' commands, before the 0x220 that closes the jiffy for the plant.
+void IndicatorNode::send_ingredient_commands(std::uint16_t counter) {
+  for (std::uint8_t i = 1; i < CanIngredientValves::kValves; ++i) {
+    if ((ingredients_.commanded() & (1u << i)) == 0) continue;
+    CanFrame frame = encode(ValveCommandMessage{std::uint8_t(ingredients_.command_of(i)), ingredients_.delay_of(i), counter});
+    frame.id = kIdValveCommand + i;
+    link_.send(frame);
+  }
+}
+
 void IndicatorNode::send_heartbeat(std::uint8_t nmt_state) {
   link_.send(encode(HeartbeatMessage{kNodeIndicator, nmt_state}));
 }
@@ -105,6 +132,10 @@ void IndicatorNode::leave() {
   if (valve_.last_command() != firmware::ValveCommand::closed) {
     valve_.command(firmware::ValveCommand::closed, 0);
     link_.send(encode(ValveCommandMessage{std::uint8_t(firmware::ValveCommand::closed), 0, record_.outputs.answered_counter}));
+  }
+  if (ingredients_.commanded() != 0) {
+    ingredients_.close_all();
+    send_ingredient_commands(record_.outputs.answered_counter);
   }
   if (gate_.last_command() != firmware::GateCommand::closed) {
     gate_.command(firmware::GateCommand::closed);

@@ -93,6 +93,7 @@ CanBoard::Event CanBoard::poll(int timeout_ms) {
       case can::IndicatorNode::Heard::repeated_sample:
       case can::IndicatorNode::Heard::valve_position:
       case can::IndicatorNode::Heard::gate_position:
+      case can::IndicatorNode::Heard::ingredient_position:
         break;
       case can::IndicatorNode::Heard::ignored:
         ++ignored_;  // our own frames echoed back, other nodes' heartbeats, malformed frames

@@ -6,7 +6,9 @@
 // One jiffy per 0x190 sample, through hal::run_one_jiffy; each is answered with exactly one 0x220
 // valve command carrying the sample's counter, then the 0x181 status. Once the indicator has first
 // commanded the discharge gate open, every answer is preceded by a 0x228 gate command with the same
-// counter (a plant without a gate node never hears one; 0x1A8 feedback is read whenever it comes). Samples are put in order by
+// counter (a plant without a gate node never hears one; 0x1A8 feedback is read whenever it comes);
+// likewise each ingredient valve's 0x221..0x227 once a batch has first opened it (0x1A1..0x1A7 read
+// whenever they come). Samples are put in order by
 // their counter (sample_sequence.hpp): a duplicate runs no jiffy, a late one is discarded, a lost
 // one is a jiffy without a sample and without an answer (the plant no longer waits for it). When
 // the board's clock says the link has gone quiet, the board asks for a jiffy without a sample; the
@@ -88,6 +90,44 @@ class CanGate final : public GatePort {
   bool commanded_ = false;
 };
 
+// A batch's ingredient valves 1..7 as 0x221..0x227 out (sent by the node for each valve once it has
+// first been commanded open, with the 0x220 payload) and 0x1A1..0x1A7 in. A valve whose feedback
+// has been heard is there.
+class CanIngredientValves final : public IngredientValvesPort {
+ public:
+  static constexpr std::uint8_t kValves = 8;  // ingredient 0's is CanValve
+  std::uint8_t present() const override { return present_; }
+  void command(std::uint8_t ingredient, firmware::ValveCommand command, std::uint8_t delay_100us) override {
+    ingredient_ = ingredient < kValves ? ingredient : 0;
+    command_ = command;
+    delay_100us_ = delay_100us;
+    if (ingredient_ != 0 && command != firmware::ValveCommand::closed) commanded_ |= std::uint8_t(1u << ingredient_);
+  }
+  firmware::ValvePosition position(std::uint8_t ingredient) const override {
+    return ingredient < kValves ? position_[ingredient] : firmware::ValvePosition::closed;
+  }
+  void deliver_position(std::uint8_t ingredient, firmware::ValvePosition position) {
+    position_[ingredient] = position;
+    present_ |= std::uint8_t(1u << ingredient);
+  }
+  // Bit i: valve i has been commanded open at least once; from then on its command goes out every jiffy.
+  std::uint8_t commanded() const { return commanded_; }
+  firmware::ValveCommand command_of(std::uint8_t ingredient) const {
+    return ingredient == ingredient_ ? command_ : firmware::ValveCommand::closed;
+  }
+  std::uint8_t delay_of(std::uint8_t ingredient) const { return ingredient == ingredient_ ? delay_100us_ : 0; }
+  // Every valve commanded closed (the indicator goes away).
+  void close_all() { command(0, firmware::ValveCommand::closed, 0); }
+
+ private:
+  std::uint8_t ingredient_ = 0;
+  firmware::ValveCommand command_ = firmware::ValveCommand::closed;
+  std::uint8_t delay_100us_ = 0;
+  firmware::ValvePosition position_[kValves] = {};
+  std::uint8_t present_ = 0x01;
+  std::uint8_t commanded_ = 0;
+};
+
 struct IndicatorNodeOptions {
   SettingsStore* settings = nullptr;  // nothing persists without one
   // A 0x701 heartbeat after every this many jiffies; 0: the board sends heartbeats by its clock.
@@ -100,7 +140,7 @@ class IndicatorNode {
   // What a received frame did. `sample`: a jiffy ran on it (after any for lost samples);
   // `repeated_sample`: a duplicate or late 0x190, no jiffy; `ignored`: our own frames echoed by a
   // bus, other nodes' heartbeats, malformed frames.
-  enum class Heard { sample, repeated_sample, valve_position, gate_position, plant_stopped, ignored };
+  enum class Heard { sample, repeated_sample, valve_position, gate_position, ingredient_position, plant_stopped, ignored };
 
   IndicatorNode(firmware::Indicator& indicator, ConsolePort& console, CanLink& link,
                 const IndicatorNodeOptions& options = {});
@@ -133,6 +173,7 @@ class IndicatorNode {
   // `answer`: send the 0x220/0x181 pair (not for a jiffy standing in for a lost sample).
   void run_jiffy(firmware::LinkStatus link, bool answer);
   firmware::LinkStatus link_status(bool heard) const;
+  void send_ingredient_commands(std::uint16_t counter);
 
   firmware::Indicator& indicator_;
   CanLink& link_;
@@ -140,6 +181,7 @@ class IndicatorNode {
   CanLoadCell load_cell_;
   CanValve valve_;
   CanGate gate_;
+  CanIngredientValves ingredients_;
   Ports ports_;
   SampleSequence sequence_;
   bool plant_heard_ = false;
