@@ -227,5 +227,10 @@ TEST(Batch, AbortStopsTheBatchWithEveryValveClosed) {
   EXPECT_NE(s.run({"status"}).find("fault=none"), std::string::npos);
 }
 
+TEST(Batch, IsListedByHelp) {
+  ConsoleSession s;
+  EXPECT_NE(s.run({"help"}).find("\nbatch <m>:<g> "), std::string::npos);
+}
+
 }  // namespace
 }  // namespace dynweigh::testing
