@@ -3,11 +3,11 @@
 # from its own valve into one hopper): three RESULT lines, one per material in turn, BATCH ... ok=1
 # with their sum; by the plant's truth (--csv: the mass on the scale when each valve first opens and
 # at the end) each ingredient is within its OIML R61 X(1) initial-verification limit of its target,
-# and its RESULT says what it delivered.
+# and its RESULT says what it delivered. Recorded, the batch replays to the same outputs.
 set -euo pipefail
 bin=$1; work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 out=$(printf 'material 0 name sand\nmaterial 1 name barley\nmaterial 1 density 700\nmaterial 2 name flour\nmaterial 2 density 500\nbatch 0:10000 1:5000 2:4000\n' |
-      "$bin/dynweigh-fw" --plant sim:batching --csv "$work/batch.csv")
+      "$bin/dynweigh-fw" --plant sim:batching --csv "$work/batch.csv" --record "$work/batch.rec")
 echo "$out"
 python3 - "$out" "$work/batch.csv" 10000 5000 4000 <<'PY'
 import csv, sys
@@ -48,3 +48,5 @@ for k, (target, result) in enumerate(zip(targets, results)):
         failed.append(f"material {k}: RESULT final={result['final']} but the plant delivered {truth:.1f} g")
 assert not failed, failed
 PY
+replayed=$("$bin/dynweigh" replay "$work/batch.rec")
+grep -qx 'matches_recording=1' <<<"$replayed" || { echo "$replayed"; echo "the recorded batch does not replay"; exit 1; }

@@ -106,6 +106,9 @@ firmware::Inputs RecordedJiffy::inputs() const {
   in.load_cell = load_cell;
   in.valve_position = valve_position;
   in.gate_position = gate_position;
+  // Not recorded: every ingredient valve is taken to be there. A recorded batch replays (the valve
+  // feedback recorded is the commanded ingredient's); one the board refused for a missing valve does not.
+  in.ingredient_valves = 0xFF;
   in.console_rx = console_rx.empty() ? nullptr : console_rx.data();
   in.console_rx_length = console_rx.size();
   in.settings_save = settings_save;
