@@ -23,6 +23,7 @@ const char* fault_name(Fault fault) {
     case Fault::gate_not_open: return "gate_not_open";
     case Fault::gate_not_closed: return "gate_not_closed";
     case Fault::not_empty: return "not_empty";
+    case Fault::gate_fault: return "gate_fault";
   }
   return "unknown";
 }

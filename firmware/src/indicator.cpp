@@ -55,6 +55,7 @@ void Indicator::sense(const Inputs& inputs) {
 void Indicator::supervise(const Inputs& inputs) {
   const Calibration& cal = settings_.calibration;
   raise(supervisor_.watch_sample(inputs.load_cell, cal.valid(), scale_.filtered_gross_g(cal)));
+  if (inputs.gate_faults != 0) raise(Fault::gate_fault);  // the module knows its gate best
   // A link that carries nothing brings no news of the valve either: its last feedback would read as
   // a valve that never moved. The link's own fault speaks for this jiffy.
   if (inputs.load_cell.link != LinkStatus::ok) return;

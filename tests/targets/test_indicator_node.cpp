@@ -183,6 +183,22 @@ TEST_F(IndicatorNodeTest, TheValvePositionAndMalformedFramesAreNotJiffies) {
   EXPECT_TRUE(link_.sent.empty());
 }
 
+// The gate module's fault bits (0x1A8 byte 1): any set is the fault gate_fault, in the next jiffy.
+TEST_F(IndicatorNodeTest, AFaultTheGateModuleReportsIsTheGateFault) {
+  ASSERT_EQ(node_.receive(sample(1)), Heard::sample);
+  EXPECT_EQ(node_.receive(can::encode(can::GateFeedbackMessage{0, 0})), Heard::gate_position);
+  ASSERT_EQ(node_.receive(sample(2)), Heard::sample);
+  EXPECT_EQ(indicator_.fault(), firmware::Fault::none);
+  EXPECT_EQ(node_.receive(can::encode(can::GateFeedbackMessage{0, 0x04})), Heard::gate_position);
+  link_.take();
+  ASSERT_EQ(node_.receive(sample(3)), Heard::sample);
+  EXPECT_EQ(indicator_.fault(), firmware::Fault::gate_fault);
+  const Reply reply = reply_of(link_.take());
+  EXPECT_EQ(reply.valve.command, std::uint8_t(firmware::ValveCommand::closed));
+  EXPECT_EQ(reply.status.state, std::uint8_t(firmware::IndicatorState::fault));
+  EXPECT_NE(status_after(4).find("fault=gate_fault"), std::string::npos);
+}
+
 TEST_F(IndicatorNodeTest, LeavingSaysNmtStopped) {
   ASSERT_EQ(node_.receive(sample(1)), Heard::sample);
   link_.take();

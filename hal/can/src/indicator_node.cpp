@@ -50,6 +50,7 @@ IndicatorNode::Heard IndicatorNode::receive(const CanFrame& frame) {
       GateFeedbackMessage m;
       if (!decode(frame, m)) return Heard::ignored;
       gate_.deliver_position(firmware::GatePosition{m.position});
+      gate_.deliver_faults(m.faults);
       return Heard::gate_position;
     }
     case MessageKind::heartbeat: {

@@ -32,6 +32,7 @@ enum class Fault : std::uint8_t {
   gate_not_open,    // commanded open, the gate's feedback did not say open within its stroke limit
   gate_not_closed,  // commanded closed, the gate's feedback did not say closed within its stroke limit
   not_empty,        // the gate open, the hopper did not empty within discharge_timeout_s
+  gate_fault,       // the gate's module reports a fault of its own (a fault bit of its 0x1A8)
 };
 
 const char* fault_name(Fault fault);

@@ -46,6 +46,7 @@ struct Inputs {
   LoadCellInput load_cell;
   ValvePosition valve_position = ValvePosition::closed;
   GatePosition gate_position = GatePosition::closed;  // a board without a gate reports it closed
+  std::uint8_t gate_faults = 0;  // the gate module's fault bits (0x1A8 byte 1); any set is the fault gate_fault
   // Bit i: the plant has ingredient valve i (bit 0, the valve above, always). valve_position is the
   // feedback of the valve the last Outputs commanded (Outputs::ingredient).
   std::uint8_t ingredient_valves = 0x01;

@@ -49,6 +49,7 @@ inline JiffyRecord run_one_jiffy(firmware::Indicator& indicator, Ports& ports, s
   record.valve_position = commanded_valve_position(indicator, ports);
   record.ingredient_valves = ports.ingredients ? std::uint8_t(ports.ingredients->present() | 1u) : std::uint8_t(1);
   record.gate_position = ports.gate ? ports.gate->position() : firmware::GatePosition::closed;
+  record.gate_faults = ports.gate ? ports.gate->faults() : std::uint8_t(0);
   record.console_rx_length = ports.console.read(record.console_rx, sizeof record.console_rx);
   record.settings_save = ports.save_report;
   if (ports.probe) ports.probe->before_step();

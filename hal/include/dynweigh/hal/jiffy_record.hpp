@@ -22,6 +22,7 @@ struct JiffyRecord {
   firmware::ValvePosition valve_position = firmware::ValvePosition::closed;
   firmware::GatePosition gate_position = firmware::GatePosition::closed;
   std::uint8_t ingredient_valves = 0x01;
+  std::uint8_t gate_faults = 0;
   firmware::SettingsSave settings_save = firmware::SettingsSave::none;
   char console_rx[kConsoleRxBytes] = {};
   std::size_t console_rx_length = 0;
@@ -37,6 +38,7 @@ struct JiffyRecord {
     in.valve_position = valve_position;
     in.gate_position = gate_position;
     in.ingredient_valves = ingredient_valves;
+    in.gate_faults = gate_faults;
     in.console_rx = console_rx;
     in.console_rx_length = console_rx_length;
     in.settings_save = settings_save;

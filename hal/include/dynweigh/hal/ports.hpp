@@ -44,6 +44,8 @@ class GatePort {
   virtual ~GatePort() = default;
   virtual void command(firmware::GateCommand command) = 0;
   virtual firmware::GatePosition position() const = 0;
+  // The fault bits the gate's module reports (0: none, or a module that reports none).
+  virtual std::uint8_t faults() const { return 0; }
 };
 
 // The valves of a batch's ingredients 1..7 (ingredient 0's is the ValvePort), all above the one

@@ -80,6 +80,8 @@ class CanGate final : public GatePort {
   }
   firmware::GatePosition position() const override { return position_; }
   void deliver_position(firmware::GatePosition position) { position_ = position; }
+  std::uint8_t faults() const override { return faults_; }
+  void deliver_faults(std::uint8_t faults) { faults_ = faults; }
   firmware::GateCommand last_command() const { return command_; }
   // The gate has been opened at least once: from then on its command goes out every jiffy.
   bool commanded() const { return commanded_; }
@@ -87,6 +89,7 @@ class CanGate final : public GatePort {
  private:
   firmware::GateCommand command_ = firmware::GateCommand::closed;
   firmware::GatePosition position_ = firmware::GatePosition::closed;
+  std::uint8_t faults_ = 0;
   bool commanded_ = false;
 };
 
