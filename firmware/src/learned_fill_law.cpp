@@ -16,9 +16,9 @@ constexpr float kForgetting = 0.9f;
 constexpr float kLowestFlowShare = 0.25f;
 constexpr float kHighestFlowShare = 4.0f;
 // A measured close is off by at most the let-through of a valve that is 0.25 s off its datasheet;
-// the mean is over the last few closes so that one fill moves it by a share only.
+// after the first, a fill moves the learned let-through by a share of its residual only.
 constexpr float kResidualLimitS = 0.25f;
-constexpr float kResidualMemory = 4.0f;
+constexpr float kResidualMemory = 1.5f;
 // No valve lets a second of its flow through.
 constexpr float kLetThroughLimitS = 1.0f;
 }  // namespace
@@ -49,8 +49,8 @@ void LearnedFillLaw::learn(const CloseRecord& close, float final_g) {
   if (!close.valid || !close.from_full_open || !(final_g > 0.0f) || !(close.open_s > 0.0f)) return;
   learn_open_time(close.open_s, final_g);
   if (!close.measured || !(close.flow_g_s > 0.0f)) return;
-  const float residual_s = (final_g - close.model_prediction_g) / close.flow_g_s;
-  learn_let_through(close.let_through_s + std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)));
+  const float residual_s = (final_g - close.prediction_g) / close.flow_g_s;
+  learn_let_through(std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)), close.let_through_s);
 }
 
 void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
@@ -64,10 +64,15 @@ void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
   learned_.open_time_law = law_.state();
 }
 
-void LearnedFillLaw::learn_let_through(float let_through_s) {
-  if (!(std::fabs(let_through_s) <= kLetThroughLimitS)) return;
+// The residual is that of the prediction the close was made with (the let-through learned so far
+// in it): each fill moves the let-through by a share of what it was still off, so it settles where
+// the closes it times end on their target, even where the model's own error changes with the close.
+void LearnedFillLaw::learn_let_through(float residual_s, float let_through_in_use_s) {
+  const float before = learned_.residual_fills > 0 ? learned_.close_let_through_s : let_through_in_use_s;
   const float n = float(learned_.residual_fills) + 1.0f;
-  learned_.close_let_through_s += (let_through_s - learned_.close_let_through_s) / std::fmin(n, kResidualMemory);
+  const float after = before + residual_s / std::fmin(n, kResidualMemory);
+  if (!(std::fabs(after) <= kLetThroughLimitS)) return;
+  learned_.close_let_through_s = after;
   if (learned_.residual_fills < 0xFFFF) ++learned_.residual_fills;
 }
 

@@ -75,7 +75,8 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   }
   if (predictor_.fine_feeding()) return model_prediction_g_;
   const Scalar residual_s = Scalar(law_.close_residual_s(float(valve_.in_use().full_closing_flow_s)));
-  return model_prediction_g_ + residual_s * predictor_.growth_per_jiffy_g() / jiffy_s_;
+  model_prediction_g_ += residual_s * predictor_.growth_per_jiffy_g() / jiffy_s_;
+  return model_prediction_g_;
 }
 
 template <typename Scalar>
@@ -102,7 +103,7 @@ void BasicModelCutoff<Scalar>::closed(Scalar fraction) {
   close_.from_full_open = !predictor_.fine_feeding();
   close_.measured = estimator_.measuring() && !timed_by_law_;
   close_.open_s = float((Scalar(estimator_.jiffies() - 1) + fraction) * jiffy_s_);
-  close_.model_prediction_g = float(model_prediction_g_ + fraction * growth);
+  close_.prediction_g = float(model_prediction_g_ + fraction * growth);
   close_.flow_g_s = float(growth / jiffy_s_);
   close_.let_through_s = float(valve_.in_use().full_closing_flow_s);
 }

@@ -2,7 +2,7 @@
 // The model strategy's memory of a material (material_learning.hpp), and what a certified fill
 // teaches it. The open-time law starts from the Beverloo flow of the installation parameters and
 // the valve's datasheet timing, and is learned by least squares (two_parameter_rls.hpp); the
-// measured close's let-through is a mean over the last few measured closes. Both are bounded: one bad fill cannot run
+// measured close's let-through follows the measured closes' residuals with a bounded gain. Both are bounded: one bad fill cannot run
 // them away.
 #include "dynweigh/firmware/material_learning.hpp"
 #include "dynweigh/firmware/two_parameter_rls.hpp"
@@ -15,7 +15,7 @@ struct CloseRecord {
   bool from_full_open = true;     // no half-open fine feed before the close
   bool measured = false;          // the stream was measured when the close was decided
   float open_s = 0.0f;            // from the open command to the close command
-  float model_prediction_g = 0.0f;  // the model's own prediction at the close, before any learned residual
+  float prediction_g = 0.0f;      // the model's prediction at the close, with the let-through learned so far
   float flow_g_s = 0.0f;          // the flow at the close
   float let_through_s = 0.0f;     // what the prediction took the valve to let through, in seconds of that flow
 };
@@ -43,7 +43,7 @@ class LearnedFillLaw {
 
  private:
   void learn_open_time(float open_s, float final_g);
-  void learn_let_through(float let_through_s);
+  void learn_let_through(float residual_s, float let_through_in_use_s);
   TwoParameterRls law_;
   float prior_flow_g_s_ = 0.0f;
   float prior_lag_s_ = 0.0f;

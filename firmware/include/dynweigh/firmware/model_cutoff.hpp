@@ -67,7 +67,7 @@ class BasicModelCutoff {
   BasicFinalWeightPredictor<Scalar> predictor_;
   LearnedFillLaw law_;
   bool timed_by_law_ = false;  // the last prediction came from the open-time law
-  Scalar model_prediction_g_ = Scalar(0);  // the last, before the learned residual
+  Scalar model_prediction_g_ = Scalar(0);  // the last, before the learn strategy's correction
   CloseRecord close_{};
 };
 
