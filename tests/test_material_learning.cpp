@@ -6,11 +6,16 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <vector>
 
 #include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/firmware/settings_slots.hpp"
+#include "dynweigh/hal/host/file_settings_store.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
 #include "support/console_session.hpp"
+#include "support/temp_file.hpp"
 
 namespace dynweigh::testing {
 namespace {
@@ -105,7 +110,11 @@ TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   EXPECT_EQ(learned.open_time_law.fills, 1u);
   EXPECT_TRUE(settings.materials.at(1).learned.empty());
   ConsoleSession c(scene, 1, settings);
-  EXPECT_EQ(lines_of(c.run({"estimates"})).size(), 2u);
+  // After a restart no dose has been measured, but what the material learned is told.
+  const auto estimates = lines_of(c.run({"estimates"}));
+  ASSERT_EQ(estimates.size(), 2u);
+  EXPECT_EQ(estimates.front().rfind("LEARNED material=0 law_flow_kg_s=", 0), 0u) << estimates.front();
+  EXPECT_NE(estimates.front().find(" law_fills=1 "), std::string::npos) << estimates.front();
   EXPECT_EQ(c.run({"learn reset"}), "OK\n");
   EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
 }
@@ -183,6 +192,67 @@ TEST(MaterialLearningRecord, AVersionSixRecordLoadsWithNothingLearned) {
   for (std::size_t n = 0; n < firmware::MaterialTable::kMaterials; ++n) {
     EXPECT_TRUE(loaded.materials.at(n).learned.empty()) << n;
   }
+}
+
+void put_u32(std::uint8_t* p, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+}
+
+std::vector<std::uint8_t> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A version-6 --nvm file (its settings slots smaller than today's, the logbook and the totalizers
+// right behind them): grown on start, its logbook and totalizers moved behind today's slots, its
+// settings read with nothing learned.
+TEST(MaterialLearningRecord, AVersion6NvmFileKeepsItsSettingsLogbookAndTotals) {
+  PersistentSettings settings;
+  settings.materials.rename(1, "barley");
+  firmware::MaterialTotals totals;
+  totals.material[1].fills = 7;
+  TempFile today{"dynweigh_learning"};
+  {
+    ASSERT_EQ(hal::host::prepare_nvm_file(today.path(), false), hal::host::NvmFile::created);
+    hal::host::FileSettingsStore store(today.path());
+    for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+      firmware::LogRecord r;
+      r.target_dg = 3000;
+      r.final_dg = 3000 + 10 * std::int32_t(seq);
+      ASSERT_TRUE(store.logbook()->append(r));
+    }
+    ASSERT_TRUE(store.totalizers()->save(totals));
+  }
+  const std::vector<std::uint8_t> now = file_bytes(today.path());
+  ASSERT_EQ(now.size(), hal::host::kNvmFileBytes);
+  // Slot 0 holds the version-6 record; slot 1 is erased; then today's logbook and totalizers.
+  std::vector<std::uint8_t> old(hal::host::kVersion6SettingsBytes, 0xFF);
+  const std::vector<std::uint8_t> record = version6_record(settings);
+  std::uint8_t* slot = old.data();
+  put_u32(slot, 0x4C535744);  // "DWSL"
+  put_u32(slot + 4, 5);
+  put_u32(slot + 8, std::uint32_t(record.size()));
+  std::copy(record.begin(), record.end(), slot + firmware::kSlotHeaderSize);
+  put_u32(slot + 12, firmware::crc32(slot + 4, 8) ^ firmware::crc32(record.data(), record.size()));
+  old.insert(old.end(), now.begin() + std::ptrdiff_t(hal::host::kFileLogbookOffset), now.end());
+  ASSERT_EQ(old.size(), hal::host::kVersion6FileBytes);
+  TempFile file{"dynweigh_learning"};
+  std::ofstream(file.path(), std::ios::binary).write(reinterpret_cast<const char*>(old.data()), std::streamsize(old.size()));
+
+  EXPECT_EQ(hal::host::prepare_nvm_file(file.path(), false), hal::host::NvmFile::sized);
+  EXPECT_EQ(file_bytes(file.path()).size(), hal::host::kNvmFileBytes);
+  hal::host::FileSettingsStore store(file.path());
+  PersistentSettings loaded;
+  ASSERT_TRUE(store.load(loaded));
+  EXPECT_STREQ(loaded.materials.at(1).name, "barley");
+  EXPECT_TRUE(loaded.materials.at(1).learned.empty());
+  ASSERT_EQ(store.logbook()->last_sequence(), 3u);
+  firmware::LogRecord r;
+  ASSERT_TRUE(store.logbook()->read(3, r));
+  EXPECT_EQ(r.final_dg, 3030);
+  firmware::MaterialTotals kept;
+  ASSERT_TRUE(store.totalizers()->load(kept));
+  EXPECT_EQ(kept.material[1].fills, 7u);
 }
 
 }  // namespace

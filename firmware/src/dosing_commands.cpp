@@ -73,29 +73,13 @@ void write_estimate(Console& out, const char* key, bool known, float value, int 
     out.write("none");
   }
 }
-}  // namespace
 
-void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
-  Console& console = indicator.console_;
-  if (args.count != 1) return console.error(2, "usage: estimates");
-  const DoseEstimates<float>& e = indicator.dosing_.model_estimates();
-  const MaterialTable& materials = indicator.settings_.materials;
-  const MaterialLearning& learned = materials.at(materials.selected()).learned;
-  if (!e.impact_timed && !e.measured && learned.empty()) return console.error(2, "no model dose measured yet");
-  const auto& s = e.signature;
-  console.write("ESTIMATES");
-  write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
-  write_estimate(console, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
-  write_estimate(console, "dead_used_ms", true, 1000.0f * indicator.dosing_.model_dead_time_s(), 1);
-  write_estimate(console, "stroke_used_ms", true, 1000.0f * indicator.dosing_.model_stroke_s(), 1);
-  write_estimate(console, "flow_kg_s", e.measured, e.flow_kg_s, 3);
-  write_estimate(console, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
-  write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
-  write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
-  write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
-  // What the selected material's fills taught (kept with it across restarts).
+// What the selected material's fills taught (kept with it across restarts).
+void write_learned(Console& console, std::size_t material, const MaterialLearning& learned) {
   const TwoParameterRls::State& law = learned.open_time_law;
   const bool law_known = law.fills > 0;
+  console.write("LEARNED material=");
+  console.write_int(std::int64_t(material));
   write_estimate(console, "law_flow_kg_s", law_known, law.theta1 / 1000.0f, 3);
   write_estimate(console, "law_offset_g", law_known, law.theta2, 1);
   console.write(" law_fills=");
@@ -104,6 +88,32 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   console.write(" let_through_fills=");
   console.write_int(learned.residual_fills);
   console.put('\n');
+}
+}  // namespace
+
+void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
+  Console& console = indicator.console_;
+  if (args.count != 1) return console.error(2, "usage: estimates");
+  const DoseEstimates<float>& e = indicator.dosing_.model_estimates();
+  const MaterialTable& materials = indicator.settings_.materials;
+  const MaterialLearning& learned = materials.at(materials.selected()).learned;
+  const bool measured = e.impact_timed || e.measured;
+  if (!measured && learned.empty()) return console.error(2, "no model dose measured yet");
+  if (measured) {
+    const auto& s = e.signature;
+    console.write("ESTIMATES");
+    write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
+    write_estimate(console, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
+    write_estimate(console, "dead_used_ms", true, 1000.0f * indicator.dosing_.model_dead_time_s(), 1);
+    write_estimate(console, "stroke_used_ms", true, 1000.0f * indicator.dosing_.model_stroke_s(), 1);
+    write_estimate(console, "flow_kg_s", e.measured, e.flow_kg_s, 3);
+    write_estimate(console, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
+    write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
+    write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
+    write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+    console.put('\n');
+  }
+  write_learned(console, materials.selected(), learned);
   indicator.ok();
 }
 

@@ -18,7 +18,11 @@ constexpr float kHighestFlowShare = 4.0f;
 // A measured close is off by at most the let-through of a valve that is 0.25 s off its datasheet;
 // after the first, a fill moves the learned let-through by a share of its residual only.
 constexpr float kResidualLimitS = 0.25f;
-constexpr float kResidualMemory = 1.5f;
+constexpr float kResidualMemory = 3.0f;
+constexpr float kRefinementStepS = 0.02f;
+// The let-through learned is used once it is clearly off the timing in use: by more than the
+// scatter that a mean of a few fills keeps (a flow fluctuating 3 %: ~5 ms).
+constexpr float kLetThroughDeadbandS = 0.01f;
 // No valve lets a second of its flow through.
 constexpr float kLetThroughLimitS = 1.0f;
 }  // namespace
@@ -45,12 +49,18 @@ void LearnedFillLaw::restore(const MaterialLearning& learned) {
   }
 }
 
+// Within the deadband the timing in use stands: what is learned then is the scatter of the fills.
+float LearnedFillLaw::close_residual_s(float let_through_in_use_s) const {
+  const float off_s = learned_.close_let_through_s - let_through_in_use_s;
+  return learned_.residual_fills > 0 && std::fabs(off_s) > kLetThroughDeadbandS ? off_s : 0.0f;
+}
+
 void LearnedFillLaw::learn(const CloseRecord& close, float final_g) {
   if (!close.valid || !close.from_full_open || !(final_g > 0.0f) || !(close.open_s > 0.0f)) return;
   learn_open_time(close.open_s, final_g);
   if (!close.measured || !(close.flow_g_s > 0.0f)) return;
   const float residual_s = (final_g - close.prediction_g) / close.flow_g_s;
-  learn_let_through(std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)), close.let_through_s);
+  learn_let_through(close.let_through_s + std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)));
 }
 
 void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
@@ -64,13 +74,16 @@ void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
   learned_.open_time_law = law_.state();
 }
 
-// The residual is that of the prediction the close was made with (the let-through learned so far
-// in it): each fill moves the let-through by a share of what it was still off, so it settles where
-// the closes it times end on their target, even where the model's own error changes with the close.
-void LearnedFillLaw::learn_let_through(float residual_s, float let_through_in_use_s) {
-  const float before = learned_.residual_fills > 0 ? learned_.close_let_through_s : let_through_in_use_s;
+// What this close showed the valve to let through (the let-through its prediction used, and what the
+// final came out above it) joins the mean of the last few: the first measured close corrects the
+// datasheet's whole, later ones refine it, each by a bounded step, so that one disturbed fill cannot
+// carry the next ones off.
+void LearnedFillLaw::learn_let_through(float shown_s) {
+  const bool first = learned_.residual_fills == 0;
+  const float before = first ? shown_s : learned_.close_let_through_s;
   const float n = float(learned_.residual_fills) + 1.0f;
-  const float after = before + residual_s / std::fmin(n, kResidualMemory);
+  const float step = (shown_s - before) / std::fmin(n, kResidualMemory);
+  const float after = before + std::fmax(-kRefinementStepS, std::fmin(kRefinementStepS, step));
   if (!(std::fabs(after) <= kLetThroughLimitS)) return;
   learned_.close_let_through_s = after;
   if (learned_.residual_fills < 0xFFFF) ++learned_.residual_fills;

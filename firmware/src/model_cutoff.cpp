@@ -105,7 +105,8 @@ void BasicModelCutoff<Scalar>::closed(Scalar fraction) {
   close_.open_s = float((Scalar(estimator_.jiffies() - 1) + fraction) * jiffy_s_);
   close_.prediction_g = float(model_prediction_g_ + fraction * growth);
   close_.flow_g_s = float(growth / jiffy_s_);
-  close_.let_through_s = float(valve_.in_use().full_closing_flow_s);
+  const float in_use_s = float(valve_.in_use().full_closing_flow_s);
+  close_.let_through_s = in_use_s + (close_.measured ? law_.close_residual_s(in_use_s) : 0.0f);
 }
 
 template <typename Scalar>

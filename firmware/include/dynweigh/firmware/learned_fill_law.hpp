@@ -34,16 +34,14 @@ class LearnedFillLaw {
   float law_flow_g_s() const { return law_.state().theta1; }
   // Seconds of the flow at the close to add to a measured close's prediction that takes the valve to
   // let `let_through_in_use_s` through.
-  float close_residual_s(float let_through_in_use_s) const {
-    return learned_.residual_fills > 0 ? learned_.close_let_through_s - let_through_in_use_s : 0.0f;
-  }
+  float close_residual_s(float let_through_in_use_s) const;
 
   // A certified fill of `final_g` that closed as `close` says.
   void learn(const CloseRecord& close, float final_g);
 
  private:
   void learn_open_time(float open_s, float final_g);
-  void learn_let_through(float residual_s, float let_through_in_use_s);
+  void learn_let_through(float shown_s);
   TwoParameterRls law_;
   float prior_flow_g_s_ = 0.0f;
   float prior_lag_s_ = 0.0f;
