@@ -10,6 +10,7 @@
 #include <iterator>
 #include <vector>
 
+#include "dynweigh/firmware/learned_fill_law.hpp"
 #include "dynweigh/firmware/persistent_settings.hpp"
 #include "dynweigh/firmware/settings_slots.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
@@ -100,6 +101,41 @@ TEST(MaterialLearning, BlindSmallTargetWithinX1ByTheThirdFill) {
   std::printf("blind 500 g: %+.1f %+.1f %+.1f %+.1f g\n", errors[0], errors[1], errors[2], errors[3]);
   EXPECT_LE(std::abs(errors[2]), x1_limit_g(500.0));
   EXPECT_LE(std::abs(errors[3]), x1_limit_g(500.0));
+}
+
+TEST(MaterialLearning, AFaultedCycleTeachesNothing) {
+  ConsoleSession c;
+  c.run({"param dose_timeout_s 1"});  // the dose cannot finish: a fault ends it
+  EXPECT_EQ(lines_of(c.run({"dose 10000"})).back(), "ERR 4 fault dose_timeout");
+  EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
+}
+
+// The law's arithmetic alone, on fills of a known law: 3 kg/s, 150 g lost to the opening.
+TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetThroughABoundedStep) {
+  firmware::LearnedFillLaw law;
+  law.configure(2000.0f, 0.05f);  // the prior: 2 kg/s, 50 ms
+  firmware::CloseRecord blind;
+  blind.valid = true;
+  blind.open_s = 0.5f;
+  law.learn(blind, 3000.0f * 0.5f - 150.0f);
+  EXPECT_NEAR(law.final_at_open_g(0.5f), 1350.0f, 5.0f);
+  blind.open_s = 0.8f;
+  law.learn(blind, 3000.0f * 0.8f - 150.0f);
+  EXPECT_NEAR(law.final_at_open_g(1.2f), 3450.0f, 20.0f);  // two open times: the slope too
+
+  firmware::CloseRecord measured;
+  measured.valid = true;
+  measured.measured = true;
+  measured.open_s = 3.0f;
+  measured.flow_g_s = 3000.0f;
+  measured.let_through_s = 0.04f;
+  measured.prediction_g = 9000.0f;
+  law.learn(measured, 9000.0f + 0.06f * 3000.0f);  // the valve lets 60 ms more through
+  EXPECT_NEAR(law.close_residual_s(0.04f), 0.06f, 1e-4f);
+  measured.let_through_s = 0.10f;  // the next close used it
+  law.learn(measured, 9000.0f - 3000.0f);  // a wild fill a second short
+  EXPECT_NEAR(law.learned().close_let_through_s, 0.08f, 1e-4f);  // moved by the 20 ms bound only
+  EXPECT_EQ(law.close_residual_s(0.075f), 0.0f);  // within 10 ms of the timing in use: it stands
 }
 
 TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
