@@ -39,7 +39,7 @@ constexpr CommandSpec kCommands[] = {
     {"learn", "learn [reset]  the learn strategy's corrections: list, or forget them and what pac and flowpreact learned "
      "(persists)",
      &ConsoleCommands::learn},
-    {"estimates", "estimates  what the last model dose measured: first impact, dead time, flow, impulse",
+    {"estimates", "estimates  what the last model dose measured (first impact, dead time, flow, impulse) and the material learned",
      &ConsoleCommands::estimates},
     {"accept", "accept  take the held result as it is (logged with its tolerance verdict)", &ConsoleCommands::accept},
     {"topup", "topup  a top-up pulse for the held result under its target, then judged again", &ConsoleCommands::topup},

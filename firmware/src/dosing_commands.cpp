@@ -25,6 +25,8 @@ void ConsoleCommands::dose(Indicator& indicator, const Arguments& args) {
     return console.error(2, "target exceeds the scale's capacity");
   }
   indicator.dosing_.restore_baselines(indicator.settings_.baselines);
+  const MaterialTable& materials = indicator.settings_.materials;
+  indicator.dosing_.restore_material(materials.at(materials.selected()).learned);
   indicator.dosing_.start(std::int32_t(target), strategy, &indicator.settings_.learning);
   indicator.dose_command_pending_ = true;
   indicator.recorder_.start();
@@ -72,25 +74,47 @@ void write_estimate(Console& out, const char* key, bool known, float value, int 
     out.write("none");
   }
 }
+
+// What the selected material's fills taught (kept with it across restarts).
+void write_learned(Console& console, std::size_t material, const MaterialLearning& learned) {
+  const TwoParameterRls::State& law = learned.open_time_law;
+  const bool law_known = law.fills > 0;
+  console.write("LEARNED material=");
+  console.write_int(std::int64_t(material));
+  write_estimate(console, "law_flow_kg_s", law_known, law.theta1 / 1000.0f, 3);
+  write_estimate(console, "law_offset_g", law_known, law.theta2, 1);
+  console.write(" law_fills=");
+  console.write_int(law.fills);
+  write_estimate(console, "let_through_ms", learned.residual_fills > 0, 1000.0f * learned.close_let_through_s, 1);
+  console.write(" let_through_fills=");
+  console.write_int(learned.residual_fills);
+  console.put('\n');
+}
 }  // namespace
 
 void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   Console& console = indicator.console_;
   if (args.count != 1) return console.error(2, "usage: estimates");
   const DoseEstimates<float>& e = indicator.dosing_.model_estimates();
-  if (!e.impact_timed && !e.measured) return console.error(2, "no model dose measured yet");
-  const auto& s = e.signature;
-  console.write("ESTIMATES");
-  write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
-  write_estimate(console, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
-  write_estimate(console, "dead_used_ms", true, 1000.0f * indicator.dosing_.model_dead_time_s(), 1);
-  write_estimate(console, "stroke_used_ms", true, 1000.0f * indicator.dosing_.model_stroke_s(), 1);
-  write_estimate(console, "flow_kg_s", e.measured, e.flow_kg_s, 3);
-  write_estimate(console, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
-  write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
-  write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
-  write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
-  console.put('\n');
+  const MaterialTable& materials = indicator.settings_.materials;
+  const MaterialLearning& learned = materials.at(materials.selected()).learned;
+  const bool measured = e.impact_timed || e.measured;
+  if (!measured && learned.empty()) return console.error(2, "no model dose measured yet");
+  if (measured) {
+    const auto& s = e.signature;
+    console.write("ESTIMATES");
+    write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
+    write_estimate(console, "dead_ms", e.impact_timed, 1000.0f * e.dead_time_s, 1);
+    write_estimate(console, "dead_used_ms", true, 1000.0f * indicator.dosing_.model_dead_time_s(), 1);
+    write_estimate(console, "stroke_used_ms", true, 1000.0f * indicator.dosing_.model_stroke_s(), 1);
+    write_estimate(console, "flow_kg_s", e.measured, e.flow_kg_s, 3);
+    write_estimate(console, "impulse_g", s.valid, 1000.0f * s.impulse_kg, 1);
+    write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
+    write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
+    write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+    console.put('\n');
+  }
+  write_learned(console, materials.selected(), learned);
   indicator.ok();
 }
 

@@ -83,16 +83,21 @@ bool DosingCycle::decide_model(float net_weight_g) {
     valve_ = ValveCommand::half;
     return false;
   }
+  const float earliest = model_.earliest_close_fraction();
   if (!subjiffy_) {
     // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
-    return last_prediction_g_ + 0.5f * growth >= target;
+    const bool close = earliest <= 0.0f && last_prediction_g_ + 0.5f * growth >= target;
+    if (close) model_.closed(0.0f);
+    return close;
   }
-  if (last_prediction_g_ + growth < target) return false;
+  if (last_prediction_g_ + growth < target || earliest > 0.99f) return false;
   // The target falls within the coming jiffy: close exactly when the prediction reaches it.
   const float fraction = growth > 0.0f ? (target - last_prediction_g_) / growth : 0.0f;
-  const float clamped = fraction < 0.0f ? 0.0f : (fraction > 0.99f ? 0.99f : fraction);
+  const float lowest = earliest > 0.0f ? earliest : 0.0f;
+  const float clamped = fraction < lowest ? lowest : (fraction > 0.99f ? 0.99f : fraction);
   valve_delay_100us_ = std::uint8_t(std::lround(clamped * jiffy_s_ * 1e4f));
   if (valve_delay_100us_ > 99) valve_delay_100us_ = 99;
+  model_.closed(float(valve_delay_100us_) / (jiffy_s_ * 1e4f));
   return true;
 }
 
@@ -217,6 +222,9 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
     if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
     if (result_.strategy == DosingStrategy::flowpreact) flow_preact_.learn(float(result_.final_g));
+    if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) {
+      model_.learn(float(result_.final_g));
+    }
     return Outcome::certified;
   }
   if (float(jiffies_ - result_.cutoff_jiffy) * jiffy_s_ > settle_limit_s_) {

@@ -264,6 +264,10 @@ void Indicator::learn_from_result() {
     settings_.learning.learn(dosing_.learning_key(), float(r.final_g - r.target_g));
     settings_changed_ = true;
   }
+  if (r.strategy == DosingStrategy::model || r.strategy == DosingStrategy::learn) {
+    settings_.materials.keep_learned(dosing_.model_fill_law().learned());
+    settings_changed_ = true;
+  }
   if (r.strategy == DosingStrategy::twostage) {
     settings_.parameters.set(ParameterId::twostage_preact_g, dosing_.two_stage().fine_preact_g());
     settings_.parameters.set(ParameterId::twostage_coarse_g, dosing_.two_stage().coarse_g());

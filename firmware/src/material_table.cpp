@@ -79,6 +79,10 @@ void MaterialTable::select(std::size_t n, Parameters& parameters) {
   parameters.set(ParameterId::oiml_class, materials_[n].class_x);
 }
 
+void MaterialTable::forget_learned() {
+  for (Material& m : materials_) m.learned = MaterialLearning{};
+}
+
 void MaterialTable::follow_parameter(ParameterId id, const Parameters& parameters) {
   if (id == ParameterId::density) materials_[selected_].density = parameters.get(id);
   if (id == ParameterId::oiml_class) materials_[selected_].class_x = parameters.get(id);

@@ -4,6 +4,8 @@
 
 namespace dynweigh::firmware {
 namespace {
+template <typename Scalar>
+constexpr Scalar kSmallestOpening = Scalar(0.25);  // of the stroke
 // The material is unknown until it flows: Beverloo's constants for a typical free-flowing sand
 // (docs/physics.md, Beverloo) give the prior; the measured flow replaces it after the first impact.
 template <typename Scalar>
@@ -34,6 +36,9 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
   predictor_.configure(config);
   predictor_.use_valve_timing(valve_.in_use());
   estimator_.configure(p, predictor_.prior_rate_kg_s(), predictor_.full_open_geometry());
+  const DoseValveTiming<Scalar>& timing = valve_.in_use();
+  law_.configure(float(Scalar(1000) * predictor_.prior_rate_kg_s()),
+                 float(timing.opening_delay_s - timing.full_closing_flow_s));
 }
 
 template <typename Scalar>
@@ -41,6 +46,9 @@ void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
   valve_.start_dose();
   predictor_.start(start_weight_g, valve_.in_use());
   estimator_.start(start_weight_g, valve_.in_use());
+  timed_by_law_ = false;
+  model_prediction_g_ = Scalar(0);
+  close_ = CloseRecord{};
 }
 
 template <typename Scalar>
@@ -48,12 +56,57 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   estimator_.time_opening(net_weight_g);
   if (estimator_.confirm_stream()) valve_.learn_dead_time(estimator_.estimates().dead_time_s);
   estimator_.track_flow(net_weight_g, predictor_.impact_speed_m_s());
-  if (!estimator_.measuring()) return predictor_.from_prior(estimator_.jiffies());
-  if (!estimator_.uses_observer()) {
-    return predictor_.from_line(estimator_.line().value_at_newest, estimator_.line().slope_per_sample);
+  timed_by_law_ = !estimator_.measuring() && !predictor_.fine_feeding() && law_.knows_open_time_law();
+  if (timed_by_law_) {
+    // The sample of the n-th jiffy shows n - 1 jiffies of the valve's being open.
+    const Scalar open_s = Scalar(estimator_.jiffies() - 1) * jiffy_s_;
+    model_prediction_g_ = Scalar(law_.final_at_open_g(float(open_s)));
+    return model_prediction_g_;
   }
-  return predictor_.from_observer(estimator_.equilibrium_g(), estimator_.rate_g_per_jiffy(),
-                                  estimator_.mean_rate_g_per_jiffy());
+  if (!estimator_.measuring()) {
+    model_prediction_g_ = predictor_.from_prior(estimator_.jiffies());
+    return model_prediction_g_;
+  }
+  if (!estimator_.uses_observer()) {
+    model_prediction_g_ = predictor_.from_line(estimator_.line().value_at_newest, estimator_.line().slope_per_sample);
+  } else {
+    model_prediction_g_ = predictor_.from_observer(estimator_.equilibrium_g(), estimator_.rate_g_per_jiffy(),
+                                                   estimator_.mean_rate_g_per_jiffy());
+  }
+  if (predictor_.fine_feeding()) return model_prediction_g_;
+  const Scalar residual_s = Scalar(law_.close_residual_s(float(valve_.in_use().full_closing_flow_s)));
+  model_prediction_g_ += residual_s * predictor_.growth_per_jiffy_g() / jiffy_s_;
+  return model_prediction_g_;
+}
+
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::growth_per_jiffy_g() const {
+  return timed_by_law_ ? Scalar(law_.law_flow_g_s()) * jiffy_s_ : predictor_.growth_per_jiffy_g();
+}
+
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::learn(Scalar final_g) {
+  law_.learn(close_, float(final_g));
+}
+
+template <typename Scalar>
+Scalar BasicModelCutoff<Scalar>::earliest_close_fraction() const {
+  const DoseValveTiming<Scalar>& t = valve_.in_use();
+  const Scalar earliest_s = t.dead_s + kSmallestOpening<Scalar> * t.stroke_s;
+  return earliest_s / jiffy_s_ - Scalar(estimator_.jiffies() - 1);
+}
+
+template <typename Scalar>
+void BasicModelCutoff<Scalar>::closed(Scalar fraction) {
+  const Scalar growth = growth_per_jiffy_g();
+  close_.valid = true;
+  close_.from_full_open = !predictor_.fine_feeding();
+  close_.measured = estimator_.measuring() && !timed_by_law_;
+  close_.open_s = float((Scalar(estimator_.jiffies() - 1) + fraction) * jiffy_s_);
+  close_.prediction_g = float(model_prediction_g_ + fraction * growth);
+  close_.flow_g_s = float(growth / jiffy_s_);
+  const float in_use_s = float(valve_.in_use().full_closing_flow_s);
+  close_.let_through_s = in_use_s + (close_.measured ? law_.close_residual_s(in_use_s) : 0.0f);
 }
 
 template <typename Scalar>

@@ -10,8 +10,10 @@ namespace {
 
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
-// 5: the tolerance parameters; 6: the discharge parameters and the material table
-constexpr std::uint16_t kVersion = 6;
+// 5: the tolerance parameters; 6: the discharge parameters and the material table; 7: what the model
+// strategy's fills of each material measured
+constexpr std::uint16_t kVersion = 7;
+constexpr std::uint16_t kVersionBeforeMaterialLearning = 6;
 constexpr std::uint16_t kVersionBeforeMaterials = 5;
 constexpr std::uint16_t kVersionBeforeTolerance = 4;
 
@@ -78,6 +80,28 @@ BaselineLearning get_baselines(const std::uint8_t* p) {
   return b;
 }
 
+void put_material_learning(std::uint8_t* p, const MaterialLearning& learned) {
+  put_rls(p, learned.open_time_law);
+  put_f32(p + kRlsStateBytes, learned.close_let_through_s);
+  p[kRlsStateBytes + 4] = std::uint8_t(learned.residual_fills);
+  p[kRlsStateBytes + 5] = std::uint8_t(learned.residual_fills >> 8);
+}
+
+// A let-through no learning can produce (not finite, a second or more) is dropped, as a law that is not sane.
+constexpr float kLetThroughLimitS = 1.0f;
+
+MaterialLearning get_material_learning(const std::uint8_t* p) {
+  MaterialLearning learned;
+  learned.open_time_law = get_rls(p);
+  learned.close_let_through_s = get_f32(p + kRlsStateBytes);
+  learned.residual_fills = std::uint16_t(p[kRlsStateBytes + 4] | (p[kRlsStateBytes + 5] << 8));
+  if (learned.residual_fills == 0 || !(std::fabs(learned.close_let_through_s) <= kLetThroughLimitS)) {
+    learned.close_let_through_s = 0.0f;
+    learned.residual_fills = 0;
+  }
+  return learned;
+}
+
 void put_materials(std::uint8_t* p, const MaterialTable& table) {
   p[0] = std::uint8_t(table.selected());
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
@@ -87,21 +111,25 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     std::memcpy(e + 4, m.name, Material::kNameBytes);
     put_f32(e + 4 + Material::kNameBytes, m.density);
     put_f32(e + 8 + Material::kNameBytes, m.class_x);
+    put_material_learning(e + kMaterialEntryBytesV6, m.learned);
   }
 }
 
 // An entry no console command can produce (a name not NUL-ended or not a name, a density or class
 // out of range) is dropped: the material is undefined, and a selection of it falls back to 0.
-MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters) {
+// A version-6 table has no learned fields: every material starts with nothing learned.
+MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, bool with_learning) {
   MaterialTable table(parameters);
+  const std::size_t entry_bytes = with_learning ? kMaterialEntryBytes : kMaterialEntryBytesV6;
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
-    const std::uint8_t* e = p + 4 + kMaterialEntryBytes * n;
+    const std::uint8_t* e = p + 4 + entry_bytes * n;
     if (e[0] != 1) continue;
     Material m;
     std::memcpy(m.name, e + 4, Material::kNameBytes);
     m.defined = true;
     m.density = get_f32(e + 4 + Material::kNameBytes);
     m.class_x = get_f32(e + 8 + Material::kNameBytes);
+    if (with_learning) m.learned = get_material_learning(e + kMaterialEntryBytesV6);
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;
@@ -164,12 +192,15 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
-  const std::size_t parameter_count = version == kVersion                  ? kParameterCount
+  const std::size_t parameter_count = version == kVersion || version == kVersionBeforeMaterialLearning
+                                          ? kParameterCount
                                       : version == kVersionBeforeMaterials ? kParametersV5
                                       : version == kVersionBeforeTolerance ? kParametersV4
                                                                            : 0;
-  const bool with_materials = version == kVersion;
-  const std::size_t record_size = settings_record_size(parameter_count, with_materials);
+  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::learned
+                                      : version == kVersionBeforeMaterialLearning ? MaterialsInRecord::table
+                                                                                  : MaterialsInRecord::none;
+  const std::size_t record_size = settings_record_size(parameter_count, materials);
   if (parameter_count == 0 || data[6] != parameter_count || length < record_size) return false;
   if (get_u32(data + 8) != record_size) return false;
   if (get_u32(data + 12) != (crc32(data + 16, record_size - 16) ^ crc32(data, 12))) return false;
@@ -208,8 +239,10 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   const std::uint8_t* baselines = table + kLearningEntryBytes * LearningTable::kEntries;
   decoded.baselines = get_baselines(baselines);
   // Before the table: material 0, selected, is the one the parameters describe.
-  decoded.materials = with_materials ? get_materials(baselines + kBaselineLearningBytes, decoded.parameters)
-                                     : MaterialTable(decoded.parameters);
+  decoded.materials = materials != MaterialsInRecord::none
+                          ? get_materials(baselines + kBaselineLearningBytes, decoded.parameters,
+                                          materials == MaterialsInRecord::learned)
+                          : MaterialTable(decoded.parameters);
   settings = decoded;
   return true;
 }

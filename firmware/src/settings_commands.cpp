@@ -65,6 +65,7 @@ void ConsoleCommands::learn(Indicator& indicator, const Arguments& args) {
     if (indicator.reject_if_busy()) return;
     indicator.settings_.learning.reset();
     indicator.settings_.baselines = BaselineLearning{};
+    indicator.settings_.materials.forget_learned();
     indicator.settings_changed_ = true;
     return indicator.ok();
   }

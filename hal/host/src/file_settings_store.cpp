@@ -43,12 +43,12 @@ void grow(int fd, const std::string& path, std::size_t from) {
   }
 }
 
-// A version-5 file: its logbook moves to where this version keeps it (after the larger settings
-// slots, which leaves the old slots where they were), and the totalizers' part is added, erased.
-void move_version5_logbook(int fd, const std::string& path) {
-  constexpr std::size_t kLogBytes = kFileLogbookSlots * firmware::kLogRecordSize;
+// An older file's logbook (and totalizers, from version 6) moves to where this version keeps them
+// (after the larger settings slots, which leaves the old slots where they were); what the older file
+// lacks is added, erased.
+void move_behind_settings(int fd, const std::string& path, std::size_t from, std::size_t length) {
   std::vector<std::uint8_t> moved(kNvmFileBytes - kFileLogbookOffset, 0xFF);
-  if (::pread(fd, moved.data(), kLogBytes, off_t(kVersion5FileBytes - kLogBytes)) != ssize_t(kLogBytes) ||
+  if (::pread(fd, moved.data(), length, off_t(from)) != ssize_t(length) ||
       ::pwrite(fd, moved.data(), moved.size(), off_t(kFileLogbookOffset)) != ssize_t(moved.size()) || ::fsync(fd) != 0) {
     const std::string reason = std::strerror(errno);
     ::close(fd);
@@ -72,7 +72,10 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset) {
   } else if (st.st_size == off_t(kSettingsOnlyFileBytes)) {
     grow(fd, path, std::size_t(st.st_size));
   } else if (st.st_size == off_t(kVersion5FileBytes)) {
-    move_version5_logbook(fd, path);
+    constexpr std::size_t kLogBytes = kFileLogbookSlots * firmware::kLogRecordSize;
+    move_behind_settings(fd, path, kVersion5FileBytes - kLogBytes, kLogBytes);
+  } else if (st.st_size == off_t(kVersion6FileBytes)) {
+    move_behind_settings(fd, path, kVersion6SettingsBytes, kVersion6FileBytes - kVersion6SettingsBytes);
   } else if (st.st_size != off_t(kNvmFileBytes)) {
     state = NvmFile::wrong_size;
   } else if (all_erased(fd)) {

@@ -70,6 +70,10 @@ class DosingCycle {
   const FlowPreactCutoff& flow_preact() const { return flow_preact_; }
   // The kind of fill the learn strategy closed: where its residual belongs.
   const LearningKey& learning_key() const { return learning_key_; }
+  // What the model's earlier fills of the material about to be dosed taught: restored before a
+  // dose; after a certified model or learn result, what it adds (the material's to keep).
+  void restore_material(const MaterialLearning& learned) { model_.restore(learned); }
+  const LearnedFillLaw& model_fill_law() const { return model_.fill_law(); }
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
   float model_dead_time_s() const { return model_.dead_time_in_use_s_now(); }

@@ -2,11 +2,13 @@
 // The materials a plant doses: up to kMaterials, each with a name, its bulk density's first guess
 // and the OIML R61 class its fills are judged by. One is selected; its density and class are the
 // `density` and `class` parameters a dose uses (selecting one copies them there, and `param density`
-// or `param class` edits the selected one's). Material 0 always exists. What the strategies learn
-// (the learning table, the baselines) is not yet kept per material: it stays one set for all.
+// or `param class` edits the selected one's). Material 0 always exists. What the model strategy's
+// fills measured is kept per material (material_learning.hpp); what the learn strategy's table and
+// the baselines learn is one set for all.
 #include <cstddef>
 #include <cstdint>
 
+#include "dynweigh/firmware/material_learning.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
 namespace dynweigh::firmware {
@@ -17,6 +19,7 @@ struct Material {
   char name[kNameBytes] = {};
   float density = 0.0f;  // kg/m^3, the `density` parameter's range
   float class_x = 0.0f;  // X(x), the `class` parameter's range
+  MaterialLearning learned{};
 };
 
 class MaterialTable {
@@ -44,6 +47,11 @@ class MaterialTable {
   void select(std::size_t n, Parameters& parameters);
   // A `param density` or `param class` just set: the selected material takes it.
   void follow_parameter(ParameterId id, const Parameters& parameters);
+
+  // What the selected material's last certified model or learn fill left learned.
+  void keep_learned(const MaterialLearning& learned) { materials_[selected_].learned = learned; }
+  // `learn reset`: every material's fills are forgotten.
+  void forget_learned();
 
   // For the settings record: restores an entry as stored (checked by the caller) and the selection.
   void restore(std::size_t n, const Material& material) { materials_[n] = material; }

@@ -2,12 +2,14 @@
 // The `model` strategy's view of a fill, in three parts: the valve's timing and what the scale has
 // learned of it (learned_valve_timing.hpp), what the dose's samples tell of the stream
 // (dose_estimator.hpp), and the final weight predicted from both (final_weight_predictor.hpp).
-// Before the first impact there is no measurement: the prediction comes from the configured
-// geometry and the valve's timing.
+// Before the stream is measured the prediction comes from the open-time law this material's earlier
+// fills taught (learned_fill_law.hpp), or before any, from the configured geometry and the valve's
+// timing. A measured close adds the residual the earlier measured closes left.
 #include <cstdint>
 
 #include "dynweigh/firmware/dose_estimator.hpp"
 #include "dynweigh/firmware/final_weight_predictor.hpp"
+#include "dynweigh/firmware/learned_fill_law.hpp"
 #include "dynweigh/firmware/learned_valve_timing.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 
@@ -19,13 +21,24 @@ template <typename Scalar>
 class BasicModelCutoff {
  public:
   void configure(const Parameters& parameters);
+  // What earlier fills of the material about to be dosed taught (nothing learned: the prior).
+  void restore(const MaterialLearning& learned) { law_.restore(learned); }
   // Called at the jiffy the valve is commanded open; weights are net grams on the scale.
   void start(Scalar start_weight_g);
   // One unfiltered sample per jiffy; returns the predicted final fill (grams added by this dose)
   // if the valve were commanded closed now.
   Scalar observe(Scalar net_weight_g);
   // Grams the fill grows per jiffy at the present flow, for timing the close within the jiffy.
-  Scalar growth_per_jiffy_g() const { return predictor_.growth_per_jiffy_g(); }
+  Scalar growth_per_jiffy_g() const;
+  // How far into the coming jiffy a close may come at the earliest: never before the valve has
+  // opened a quarter of its stroke (a fill closed sooner delivers next to nothing and teaches
+  // nothing). Above 1: not in the coming jiffy.
+  Scalar earliest_close_fraction() const;
+  // The close was commanded `fraction` of a jiffy after the last observed sample.
+  void closed(Scalar fraction);
+  // The dose closed by closed() was certified at `final_g`: what it teaches this material.
+  void learn(Scalar final_g);
+  const LearnedFillLaw& fill_law() const { return law_; }
   // Seconds from the close command until the last grain has landed.
   Scalar settle_delay_s() const { return predictor_.settle_delay_s(); }
   bool measuring() const { return estimator_.measuring(); }
@@ -52,6 +65,10 @@ class BasicModelCutoff {
   BasicLearnedValveTiming<Scalar> valve_;
   BasicDoseEstimator<Scalar> estimator_;
   BasicFinalWeightPredictor<Scalar> predictor_;
+  LearnedFillLaw law_;
+  bool timed_by_law_ = false;  // the last prediction came from the open-time law
+  Scalar model_prediction_g_ = Scalar(0);  // the last, before the learn strategy's correction
+  CloseRecord close_{};
 };
 
 using ModelCutoff = BasicModelCutoff<float>;

@@ -40,20 +40,33 @@ inline constexpr std::size_t kRlsStateBytes = 24;
 // pac: spill law, blind law; flowpreact: lag f32, fills u16, pad, blind law.
 inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + kRlsStateBytes;
 // The material table: selected u8, 3 bytes pad, then each material: defined u8, 3 bytes pad, name
-// 16 bytes (NUL-padded), density f32, class f32. What is later kept per material goes after it.
-inline constexpr std::size_t kMaterialEntryBytes = 4 + Material::kNameBytes + 4 + 4;
-inline constexpr std::size_t kMaterialTableBytes = 4 + kMaterialEntryBytes * MaterialTable::kMaterials;
-// A record's size with `parameter_count` parameters (an older firmware's record has fewer) and,
-// from version 6 on, the material table.
-constexpr std::size_t settings_record_size(std::size_t parameter_count, bool with_materials = true) {
+// 16 bytes (NUL-padded), density f32, class f32; from version 7 on, what the model's fills of it
+// measured: the open-time law, the measured close's let-through f32, its fills u16, 2 bytes pad.
+inline constexpr std::size_t kMaterialEntryBytesV6 = 4 + Material::kNameBytes + 4 + 4;
+inline constexpr std::size_t kMaterialLearningBytes = kRlsStateBytes + 8;
+inline constexpr std::size_t kMaterialEntryBytes = kMaterialEntryBytesV6 + kMaterialLearningBytes;
+constexpr std::size_t material_table_bytes(std::size_t entry_bytes) {
+  return 4 + entry_bytes * MaterialTable::kMaterials;
+}
+inline constexpr std::size_t kMaterialTableBytes = material_table_bytes(kMaterialEntryBytes);
+// What a record holds after the baselines: nothing (version 5 and older), the material table
+// (version 6), the table with what each material learned (version 7).
+enum class MaterialsInRecord : std::uint8_t { none, table, learned };
+// A record's size with `parameter_count` parameters (an older firmware's record has fewer) and the
+// material table as its version keeps it.
+constexpr std::size_t settings_record_size(std::size_t parameter_count,
+                                           MaterialsInRecord materials = MaterialsInRecord::learned) {
   return 16 + 12 + 4 * parameter_count + kLearningEntryBytes * LearningTable::kEntries + kBaselineLearningBytes +
-         (with_materials ? kMaterialTableBytes : 0);
+         (materials == MaterialsInRecord::learned ? material_table_bytes(kMaterialEntryBytes)
+          : materials == MaterialsInRecord::table ? material_table_bytes(kMaterialEntryBytesV6)
+                                                  : 0);
 }
 // Version 5 (before the material table) and version 4 (before the tolerance parameters too).
 inline constexpr std::size_t kParametersV5 = static_cast<std::size_t>(ParameterId::topup_ms) + 1;
 inline constexpr std::size_t kParametersV4 = static_cast<std::size_t>(ParameterId::oiml_class);
-inline constexpr std::size_t kSettingsRecordSizeV5 = settings_record_size(kParametersV5, false);
-inline constexpr std::size_t kSettingsRecordSizeV4 = settings_record_size(kParametersV4, false);
+inline constexpr std::size_t kSettingsRecordSizeV6 = settings_record_size(kParameterCount, MaterialsInRecord::table);
+inline constexpr std::size_t kSettingsRecordSizeV5 = settings_record_size(kParametersV5, MaterialsInRecord::none);
+inline constexpr std::size_t kSettingsRecordSizeV4 = settings_record_size(kParametersV4, MaterialsInRecord::none);
 inline constexpr std::size_t kSettingsRecordSize = settings_record_size(kParameterCount);
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
@@ -61,7 +74,7 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 // Writes the record; returns its size (kSettingsRecordSize) or 0 if `capacity` is too small.
 std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* out, std::size_t capacity);
 // False (and `settings` untouched) unless the record is complete and intact, and this firmware's or
-// an older one (version 5, without the material table: material 0 is made from its density and
+// an older one (version 6, before the materials' learned fields: nothing is learned; version 5, without the material table: material 0 is made from its density and
 // class; version 4, without the tolerance parameters too: they take their defaults).
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings);
 

@@ -12,8 +12,9 @@ namespace dynweigh::hal::host {
 
 // The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
 // fewer kept), then the materials' totalizers' two slots. A file of an older version is grown: the
-// settings alone (kSettingsOnlyFileBytes), or version-5 settings and the logbook (kVersion5FileBytes,
-// whose logbook is moved behind today's larger settings slots); its settings load as they are.
+// settings alone (kSettingsOnlyFileBytes), version-5 settings and the logbook (kVersion5FileBytes), or
+// version-6 settings, the logbook and the totalizers (kVersion6FileBytes), whose logbook and totalizers
+// are moved behind today's larger settings slots; its settings load as they are.
 inline constexpr std::size_t kFileLogbookSlots = 1001;
 inline constexpr std::size_t kFileLogbookOffset = firmware::kSettingsSlotsBytes;
 inline constexpr std::size_t kFileTotalizersOffset = kFileLogbookOffset + kFileLogbookSlots * firmware::kLogRecordSize;
@@ -22,6 +23,9 @@ inline constexpr std::size_t kSettingsOnlyFileBytes = 872;
 inline constexpr std::size_t kVersion5FileBytes =
     firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV5) +
     kFileLogbookSlots * firmware::kLogRecordSize;
+inline constexpr std::size_t kVersion6SettingsBytes =
+    firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV6);
+inline constexpr std::size_t kVersion6FileBytes = kVersion6SettingsBytes + kNvmFileBytes - kFileLogbookOffset;
 
 // The file as a byte-addressed memory of kNvmFileBytes; bytes never written read as erased (0xFF).
 class FileNvm final : public firmware::NvmBlock {

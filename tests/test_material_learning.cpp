@@ -1,0 +1,295 @@
+// What a model fill measured reaches the next fill of the same material: the open-time law and the
+// measured close's residual (firmware/learned_fill_law.hpp), kept per material in the settings
+// record. Each fill runs on a fresh plant with the indicator restarted from its stored record, as a
+// plant that is switched off between fills.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "dynweigh/firmware/learned_fill_law.hpp"
+#include "dynweigh/firmware/persistent_settings.hpp"
+#include "dynweigh/firmware/settings_slots.hpp"
+#include "dynweigh/hal/host/file_settings_store.hpp"
+#include "dynweigh/model/oiml_r61_limits.hpp"
+#include "support/console_session.hpp"
+#include "support/temp_file.hpp"
+
+namespace dynweigh::testing {
+namespace {
+
+using firmware::ParameterId;
+using firmware::PersistentSettings;
+
+// The settings as a restart finds them: through the stored record.
+PersistentSettings after_power_cut(const PersistentSettings& settings) {
+  std::vector<std::uint8_t> record(firmware::kSettingsRecordSize);
+  EXPECT_EQ(firmware::encode_settings(settings, record.data(), record.size()), record.size());
+  PersistentSettings restored;
+  EXPECT_TRUE(firmware::decode_settings(record.data(), record.size(), restored));
+  return restored;
+}
+
+// Fills of one target, back to back, each on a fresh plant; the errors by the plant's true mass.
+std::vector<double> fills(const sim::Scene& scene, PersistentSettings& settings, int target_g, int count,
+                          const char* strategy = "model") {
+  std::vector<double> errors;
+  for (int k = 0; k < count; ++k) {
+    ConsoleSession c(scene, std::uint64_t(100 + k), settings);
+    c.idle(100);
+    const double before_kg = c.session().plant().truth().static_kg;
+    const auto lines = lines_of(c.run({"dose " + std::to_string(target_g) + " " + strategy}));
+    EXPECT_EQ(lines.size(), 2u) << (lines.empty() ? "" : lines.front());
+    settings = after_power_cut(c.session().indicator().settings());
+    errors.push_back((c.session().plant().truth().static_kg - before_kg) * 1000.0 - double(target_g));
+  }
+  return errors;
+}
+
+double x1_limit_g(double target_g) { return model::oiml_r61_x1_limits(target_g).initial_verification_g; }
+
+PersistentSettings commissioned(const sim::Scene& scene) {
+  PersistentSettings settings = hal::host::factory_settings(sim::Plant(scene, 1));
+  settings.parameters.set(ParameterId::bore_mm, float(scene.silo.bore_m * 1000.0));
+  settings.parameters.set(ParameterId::fall_mm, float(scene.column.fall_height_m * 1000.0));
+  return settings;
+}
+
+// The default scene's flow fluctuates by 3 % rms: one 2 kg fill's scatter alone is about the X(1)
+// limit. At 1 % what is left of an error is what the indicator knows, not the plant's noise.
+void expect_second_fill_within_x1_with_density_off(double factor) {
+  sim::Scene scene = sim::default_scene();
+  scene.silo.fluctuation_rms = 0.01;
+  PersistentSettings settings = commissioned(scene);
+  settings.parameters.set(ParameterId::density, float(scene.silo.bulk_density * factor));
+  const std::vector<double> errors = fills(scene, settings, 2000, 2);
+  std::printf("density x%.1f, 2 kg: first %+.1f g, second %+.1f g\n", factor, errors[0], errors[1]);
+  EXPECT_LE(std::abs(errors[1]), x1_limit_g(2000.0));
+}
+
+TEST(MaterialLearning, SecondTwoKilogramFillWithinX1WithTheDensityFortyPercentHigh) {
+  expect_second_fill_within_x1_with_density_off(1.4);
+}
+
+TEST(MaterialLearning, SecondTwoKilogramFillWithinX1WithTheDensityFortyPercentLow) {
+  expect_second_fill_within_x1_with_density_off(0.6);
+}
+
+// The valve is slower than the datasheet's defaults the indicator was left with: its let-through is
+// larger than the model's, and a measured close ends over the target until a fill has taught it.
+TEST(MaterialLearning, SecondTenKilogramFillWithinX1OnAValveOffItsDatasheet) {
+  sim::Scene scene = sim::default_scene();
+  scene.valve.dead_time_s = 0.070;
+  scene.valve.full_stroke_s = 0.250;
+  PersistentSettings settings = commissioned(scene);
+  const std::vector<double> errors = fills(scene, settings, 10000, 2);
+  std::printf("slow valve, 10 kg: first %+.1f g, second %+.1f g\n", errors[0], errors[1]);
+  EXPECT_LE(std::abs(errors[1]), x1_limit_g(10000.0));
+}
+
+// 500 g on a wide bore (about 5 kg/s) with 1.2 m of fall: more is in flight than the target, so the
+// close comes before the stream has landed. The open-time law the fills teach times it.
+TEST(MaterialLearning, BlindSmallTargetWithinX1ByTheThirdFill) {
+  sim::Scene scene = sim::default_scene();
+  scene.silo.bore_m = 0.080;
+  PersistentSettings settings = commissioned(scene);
+  settings.parameters.set(ParameterId::density, float(scene.silo.bulk_density * 1.3));
+  const std::vector<double> errors = fills(scene, settings, 500, 4);
+  std::printf("blind 500 g: %+.1f %+.1f %+.1f %+.1f g\n", errors[0], errors[1], errors[2], errors[3]);
+  EXPECT_LE(std::abs(errors[2]), x1_limit_g(500.0));
+  EXPECT_LE(std::abs(errors[3]), x1_limit_g(500.0));
+}
+
+TEST(MaterialLearning, AFaultedCycleTeachesNothing) {
+  ConsoleSession c;
+  c.run({"param dose_timeout_s 1"});  // the dose cannot finish: a fault ends it
+  EXPECT_EQ(lines_of(c.run({"dose 10000"})).back(), "ERR 4 fault dose_timeout");
+  EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
+}
+
+// The law's arithmetic alone, on fills of a known law: 3 kg/s, 150 g lost to the opening.
+TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetThroughABoundedStep) {
+  firmware::LearnedFillLaw law;
+  law.configure(2000.0f, 0.05f);  // the prior: 2 kg/s, 50 ms
+  firmware::CloseRecord blind;
+  blind.valid = true;
+  blind.open_s = 0.5f;
+  law.learn(blind, 3000.0f * 0.5f - 150.0f);
+  EXPECT_NEAR(law.final_at_open_g(0.5f), 1350.0f, 5.0f);
+  blind.open_s = 0.8f;
+  law.learn(blind, 3000.0f * 0.8f - 150.0f);
+  EXPECT_NEAR(law.final_at_open_g(1.2f), 3450.0f, 20.0f);  // two open times: the slope too
+
+  firmware::CloseRecord measured;
+  measured.valid = true;
+  measured.measured = true;
+  measured.open_s = 3.0f;
+  measured.flow_g_s = 3000.0f;
+  measured.let_through_s = 0.04f;
+  measured.prediction_g = 9000.0f;
+  law.learn(measured, 9000.0f + 0.06f * 3000.0f);  // the valve lets 60 ms more through
+  EXPECT_NEAR(law.close_residual_s(0.04f), 0.06f, 1e-4f);
+  measured.let_through_s = 0.10f;  // the next close used it
+  law.learn(measured, 9000.0f - 3000.0f);  // a wild fill a second short
+  EXPECT_NEAR(law.learned().close_let_through_s, 0.08f, 1e-4f);  // moved by the 20 ms bound only
+  EXPECT_EQ(law.close_residual_s(0.075f), 0.0f);  // within 10 ms of the timing in use: it stands
+}
+
+TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
+  const sim::Scene scene = sim::default_scene();
+  PersistentSettings settings = commissioned(scene);
+  fills(scene, settings, 2000, 1);
+  const firmware::MaterialLearning& learned = settings.materials.at(0).learned;
+  EXPECT_EQ(learned.open_time_law.fills, 1u);
+  EXPECT_TRUE(settings.materials.at(1).learned.empty());
+  ConsoleSession c(scene, 1, settings);
+  // After a restart no dose has been measured, but what the material learned is told.
+  const auto estimates = lines_of(c.run({"estimates"}));
+  ASSERT_EQ(estimates.size(), 2u);
+  EXPECT_EQ(estimates.front().rfind("LEARNED material=0 law_flow_kg_s=", 0), 0u) << estimates.front();
+  EXPECT_NE(estimates.front().find(" law_fills=1 "), std::string::npos) << estimates.front();
+  EXPECT_EQ(c.run({"learn reset"}), "OK\n");
+  EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
+}
+
+}  // namespace
+}  // namespace dynweigh::testing
+
+namespace dynweigh::testing {
+namespace {
+
+firmware::MaterialLearning some_learning() {
+  firmware::MaterialLearning learned;
+  learned.open_time_law = {4200.0f, -310.0f, 9000.0f, -800.0f, 400.0f, 3};
+  learned.close_let_through_s = 0.042f;
+  learned.residual_fills = 2;
+  return learned;
+}
+
+TEST(MaterialLearningRecord, SurvivesAPowerCutPerMaterial) {
+  PersistentSettings settings;
+  settings.materials.define(3);
+  settings.materials.select(3, settings.parameters);
+  settings.materials.keep_learned(some_learning());
+  const PersistentSettings restored = after_power_cut(settings);
+  const firmware::MaterialLearning& kept = restored.materials.at(3).learned;
+  EXPECT_EQ(kept.open_time_law.fills, 3u);
+  EXPECT_FLOAT_EQ(kept.open_time_law.theta1, 4200.0f);
+  EXPECT_FLOAT_EQ(kept.open_time_law.theta2, -310.0f);
+  EXPECT_FLOAT_EQ(kept.open_time_law.p12, -800.0f);
+  EXPECT_FLOAT_EQ(kept.close_let_through_s, 0.042f);
+  EXPECT_EQ(kept.residual_fills, 2u);
+  EXPECT_TRUE(restored.materials.at(0).learned.empty());
+}
+
+TEST(MaterialLearningRecord, WhatNoFillCanTeachIsDropped) {
+  PersistentSettings settings;
+  firmware::MaterialLearning wild = some_learning();
+  wild.open_time_law.p11 = -1.0f;  // no covariance
+  wild.close_let_through_s = 30.0f;   // half a minute of let-through
+  settings.materials.keep_learned(wild);
+  EXPECT_TRUE(after_power_cut(settings).materials.at(0).learned.empty());
+}
+
+// The record of the firmware before the materials' learned fields (version 6): today's, with each
+// material entry cut to its name, density and class.
+std::vector<std::uint8_t> version6_record(const PersistentSettings& settings) {
+  std::vector<std::uint8_t> now(firmware::kSettingsRecordSize);
+  firmware::encode_settings(settings, now.data(), now.size());
+  const std::size_t table = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes;
+  std::vector<std::uint8_t> old(now.begin(), now.begin() + std::ptrdiff_t(table + 4));
+  for (std::size_t n = 0; n < firmware::MaterialTable::kMaterials; ++n) {
+    const auto entry = now.begin() + std::ptrdiff_t(table + 4 + n * firmware::kMaterialEntryBytes);
+    old.insert(old.end(), entry, entry + std::ptrdiff_t(firmware::kMaterialEntryBytesV6));
+  }
+  EXPECT_EQ(old.size(), firmware::kSettingsRecordSizeV6);
+  auto put = [](std::uint8_t* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+  };
+  old[4] = 6;
+  put(old.data() + 8, std::uint32_t(old.size()));
+  put(old.data() + 12, firmware::crc32(old.data() + 16, old.size() - 16) ^ firmware::crc32(old.data(), 12));
+  return old;
+}
+
+TEST(MaterialLearningRecord, AVersionSixRecordLoadsWithNothingLearned) {
+  PersistentSettings settings;
+  settings.materials.rename(2, "barley");
+  settings.materials.set_density(2, 640.0f);
+  settings.materials.keep_learned(some_learning());
+  const std::vector<std::uint8_t> old = version6_record(settings);
+  PersistentSettings loaded;
+  ASSERT_TRUE(firmware::decode_settings(old.data(), old.size(), loaded));
+  EXPECT_STREQ(loaded.materials.at(2).name, "barley");
+  EXPECT_FLOAT_EQ(loaded.materials.at(2).density, 640.0f);
+  for (std::size_t n = 0; n < firmware::MaterialTable::kMaterials; ++n) {
+    EXPECT_TRUE(loaded.materials.at(n).learned.empty()) << n;
+  }
+}
+
+void put_u32(std::uint8_t* p, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+}
+
+std::vector<std::uint8_t> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A version-6 --nvm file (its settings slots smaller than today's, the logbook and the totalizers
+// right behind them): grown on start, its logbook and totalizers moved behind today's slots, its
+// settings read with nothing learned.
+TEST(MaterialLearningRecord, AVersion6NvmFileKeepsItsSettingsLogbookAndTotals) {
+  PersistentSettings settings;
+  settings.materials.rename(1, "barley");
+  firmware::MaterialTotals totals;
+  totals.material[1].fills = 7;
+  TempFile today{"dynweigh_learning"};
+  {
+    ASSERT_EQ(hal::host::prepare_nvm_file(today.path(), false), hal::host::NvmFile::created);
+    hal::host::FileSettingsStore store(today.path());
+    for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+      firmware::LogRecord r;
+      r.target_dg = 3000;
+      r.final_dg = 3000 + 10 * std::int32_t(seq);
+      ASSERT_TRUE(store.logbook()->append(r));
+    }
+    ASSERT_TRUE(store.totalizers()->save(totals));
+  }
+  const std::vector<std::uint8_t> now = file_bytes(today.path());
+  ASSERT_EQ(now.size(), hal::host::kNvmFileBytes);
+  // Slot 0 holds the version-6 record; slot 1 is erased; then today's logbook and totalizers.
+  std::vector<std::uint8_t> old(hal::host::kVersion6SettingsBytes, 0xFF);
+  const std::vector<std::uint8_t> record = version6_record(settings);
+  std::uint8_t* slot = old.data();
+  put_u32(slot, 0x4C535744);  // "DWSL"
+  put_u32(slot + 4, 5);
+  put_u32(slot + 8, std::uint32_t(record.size()));
+  std::copy(record.begin(), record.end(), slot + firmware::kSlotHeaderSize);
+  put_u32(slot + 12, firmware::crc32(slot + 4, 8) ^ firmware::crc32(record.data(), record.size()));
+  old.insert(old.end(), now.begin() + std::ptrdiff_t(hal::host::kFileLogbookOffset), now.end());
+  ASSERT_EQ(old.size(), hal::host::kVersion6FileBytes);
+  TempFile file{"dynweigh_learning"};
+  std::ofstream(file.path(), std::ios::binary).write(reinterpret_cast<const char*>(old.data()), std::streamsize(old.size()));
+
+  EXPECT_EQ(hal::host::prepare_nvm_file(file.path(), false), hal::host::NvmFile::sized);
+  EXPECT_EQ(file_bytes(file.path()).size(), hal::host::kNvmFileBytes);
+  hal::host::FileSettingsStore store(file.path());
+  PersistentSettings loaded;
+  ASSERT_TRUE(store.load(loaded));
+  EXPECT_STREQ(loaded.materials.at(1).name, "barley");
+  EXPECT_TRUE(loaded.materials.at(1).learned.empty());
+  ASSERT_EQ(store.logbook()->last_sequence(), 3u);
+  firmware::LogRecord r;
+  ASSERT_TRUE(store.logbook()->read(3, r));
+  EXPECT_EQ(r.final_dg, 3030);
+  firmware::MaterialTotals kept;
+  ASSERT_TRUE(store.totalizers()->load(kept));
+  EXPECT_EQ(kept.material[1].fills, 7u);
+}
+
+}  // namespace
+}  // namespace dynweigh::testing
