@@ -77,7 +77,10 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   Console& console = indicator.console_;
   if (args.count != 1) return console.error(2, "usage: estimates");
   const DoseEstimates<float>& e = indicator.dosing_.model_estimates();
-  if (!e.impact_timed && !e.measured) return console.error(2, "no model dose measured yet");
+  const DoseResult& last = indicator.dosing_.result();
+  const bool model_dosed = last.target_g > 0 && (last.strategy == DosingStrategy::model || last.strategy == DosingStrategy::learn);
+  // A close before the first impact measured nothing, but its plan tells why it closed where it did.
+  if (!e.impact_timed && !e.measured && !model_dosed) return console.error(2, "no model dose measured yet");
   const auto& s = e.signature;
   console.write("ESTIMATES");
   write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
@@ -89,6 +92,13 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
   write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
   write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+  const PlanChoice plan = indicator.dosing_.plan();
+  console.write(" plan=");
+  console.write(dose_plan_name(plan.plan));
+  write_estimate(console, "sigma_g", true, plan.sigma_g, 1);
+  write_estimate(console, "limit_g", true, plan.limit_g, 1);
+  write_estimate(console, "margin_g", true, plan.margin_g, 1);
+  write_estimate(console, "fluctuation_pct", true, 100.0f * indicator.dosing_.flow_fluctuation(), 1);
   console.put('\n');
   indicator.ok();
 }

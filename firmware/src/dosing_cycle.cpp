@@ -38,6 +38,7 @@ void DosingCycle::configure(const Parameters& p) {
   pac_.configure(p);
   flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
+  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio());
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
@@ -61,6 +62,8 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   blind_jiffies_ = 0;
   top_up_flow_g_s_ = 0.0f;
   topping_up_ = false;
+  planner_.start();
+  plan_ = PlanChoice{};
   identical_samples_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
@@ -90,25 +93,38 @@ bool DosingCycle::decide_model(float net_weight_g) {
     last_prediction_g_ += learning_->correction_g(learning_key_);
   }
   const float growth = model_.growth_per_jiffy_g();
-  // The speed knob: a half-open fine feed for the last model_fine_s of full flow. Less material
-  // in flight means less of the flow's fluctuation left unobserved at the close.
-  if (model_fine_s_ > 0.0f && !model_.fine_feeding() && model_.measuring() &&
-      last_prediction_g_ + growth * model_fine_s_ / jiffy_s_ >= target) {
+  const float aim = target - plan_step(growth);
+  // A half-open fine feed for the last fine_s of full flow: less material in flight means less of
+  // the flow's fluctuation left unobserved at the close.
+  const float fine_s = plan_.plan == DosePlan::fine && model_fine_s_ <= 0.0f ? DosePlanner::kFineFeedS : model_fine_s_;
+  if (fine_s > 0.0f && !model_.fine_feeding() && model_.measuring() &&
+      last_prediction_g_ + growth * fine_s / jiffy_s_ >= aim) {
     model_.switch_to_half(last_prediction_g_);
+    plan_.plan = DosePlan::fine;
     valve_ = ValveCommand::half;
     return false;
   }
   if (!subjiffy_) {
     // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
-    return last_prediction_g_ + 0.5f * growth >= target;
+    return last_prediction_g_ + 0.5f * growth >= aim;
   }
-  if (last_prediction_g_ + growth < target) return false;
-  // The target falls within the coming jiffy: close exactly when the prediction reaches it.
-  const float fraction = growth > 0.0f ? (target - last_prediction_g_) / growth : 0.0f;
+  if (last_prediction_g_ + growth < aim) return false;
+  // The aim falls within the coming jiffy: close exactly when the prediction reaches it.
+  const float fraction = growth > 0.0f ? (aim - last_prediction_g_) / growth : 0.0f;
   const float clamped = fraction < 0.0f ? 0.0f : (fraction > 0.99f ? 0.99f : fraction);
   valve_delay_100us_ = std::uint8_t(std::lround(clamped * jiffy_s_ * 1e4f));
   if (valve_delay_100us_ > 99) valve_delay_100us_ = 99;
   return true;
+}
+
+// The model's plan for a close now (dose_plan.hpp); returns how far short of the target to aim.
+// Once the fine feed runs, the plan is kept: the half-open stream is measured again anyway.
+float DosingCycle::plan_step(float growth_g_per_jiffy) {
+  if (result_.strategy != DosingStrategy::model || model_.fine_feeding()) return plan_.margin_g;
+  if (model_.measuring()) planner_.observe_rate(growth_g_per_jiffy);
+  const float in_flight_g = growth_g_per_jiffy / jiffy_s_ * model_.settle_delay_s();
+  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring());
+  return plan_.margin_g;
 }
 
 bool DosingCycle::decide_preact(float filtered_weight_g, float preact_g) {
@@ -187,6 +203,13 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
   estimates_ = 0;
   valve_ = pulse_.command;
   phase_ = Phase::pulsing;
+}
+
+PlanChoice DosingCycle::plan() const {
+  if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) return plan_;
+  PlanChoice baseline;
+  baseline.plan = result_.strategy == DosingStrategy::twostage ? DosePlan::fine : DosePlan::full;
+  return baseline;
 }
 
 bool DosingCycle::learn_top_up(float delivered_g) {

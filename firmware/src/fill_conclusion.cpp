@@ -100,6 +100,8 @@ void Indicator::report_result() {
   write_verdict_fields();
   console_.write(" material=");
   console_.write_int(std::int64_t(settings_.materials.selected()));
+  console_.write(" plan=");
+  console_.write(dose_plan_name(dosing_.plan().plan));
   console_.write(" seq=");
   console_.write_int(logged ? last_sequence_ : 0);
   console_.put('\n');

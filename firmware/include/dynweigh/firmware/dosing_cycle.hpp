@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/baseline_learning.hpp"
+#include "dynweigh/firmware/dose_plan.hpp"
 #include "dynweigh/firmware/dosing_strategy.hpp"
 #include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/flow_preact_cutoff.hpp"
@@ -67,6 +68,10 @@ class DosingCycle {
   bool reading_frozen() const { return identical_samples_ >= kFrozenSamples; }
   static constexpr std::uint32_t kFrozenSamples = 8;
   const TopUpPulseLaw::Pulse& last_pulse() const { return pulse_; }
+  // The model's plan at its close (a baseline's: twostage's coarse-and-fine is `fine`, the others
+  // close from full flow), and the flow's fluctuation it saw.
+  PlanChoice plan() const;
+  float flow_fluctuation() const { return planner_.fluctuation(); }
 
   Phase phase() const { return phase_; }
   ValveCommand valve() const { return valve_; }
@@ -108,6 +113,7 @@ class DosingCycle {
   bool certify_dynamically() const;
   bool delivered_nothing() const;
   void keep_top_up_flow();
+  float plan_step(float growth_g_per_jiffy);
   Outcome step_pulse();
 
   ModelCutoff model_;
@@ -143,6 +149,8 @@ class DosingCycle {
   std::uint32_t blind_jiffies_ = 0;
   std::uint32_t blind_horizon_jiffies_ = 10;  // the stale-sample limit: blind this long, a dose faults
 
+  DosePlanner planner_;
+  PlanChoice plan_;
   TopUpPulseLaw top_up_law_;
   TopUpPulseLaw::Pulse pulse_;
   float top_up_flow_g_s_ = 0.0f;  // full open, as measured at the close (0: none measured)
