@@ -17,6 +17,10 @@ constexpr float kLossMaxS = 0.2f;
 constexpr float kPulseNoiseG = 1.0f;
 constexpr float kShortestPulseS = 0.001f;
 constexpr float kAimSigmas = 2.0f;
+// The loss builds up over the flow's start-up: a pulse open for less than this loses in proportion.
+constexpr float kLossBuildS = 0.1f;
+
+float loss_regressor(float open_s) { return open_s < kLossBuildS ? -open_s / kLossBuildS : -1.0f; }
 }  // namespace
 
 void TopUpPulseLaw::reset(Law& law, float flow_g_s, float travel_s) {
@@ -45,7 +49,8 @@ float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) {
 }
 
 void TopUpPulseLaw::observe(Law& law, float seconds, float delivered_g) {
-  if (!law.rls.update(open_seconds(law, seconds), -1.0f, delivered_g)) return;
+  const float open_s = open_seconds(law, seconds);
+  if (!law.rls.update(open_s, loss_regressor(open_s), delivered_g)) return;
   TwoParameterRls::State s = law.rls.state();
   const float q_low = kFlowLow * law.prior_flow_g_s, q_high = kFlowHigh * law.prior_flow_g_s;
   s.theta1 = s.theta1 < q_low ? q_low : (s.theta1 > q_high ? q_high : s.theta1);
@@ -69,8 +74,11 @@ void TopUpPulseLaw::learn(const Pulse& pulse, float delivered_g) {
 }
 
 float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {
-  const float q = law.rls.state().theta1;
-  const float open_s = q > 0.0f ? (mass_g + law.rls.state().theta2) / q : 0.0f;
+  // Solve m = q e - c for the open time e; below the loss's build-up, m = (q - c / build) e.
+  const float q = law.rls.state().theta1, c = law.rls.state().theta2;
+  float open_s = q > 0.0f ? (mass_g + c) / q : 0.0f;
+  const float short_slope = q - c / kLossBuildS;
+  if (open_s < kLossBuildS && short_slope > 0.0f) open_s = mass_g / short_slope;
   float seconds = open_s > 0.0f ? open_s : 0.0f;
   if (seconds < law.travel_s && law.travel_s > 0.0f) seconds = std::sqrt(seconds * law.travel_s);
   return seconds < kShortestPulseS ? kShortestPulseS : (seconds > max_pulse_s_ ? max_pulse_s_ : seconds);
@@ -79,7 +87,7 @@ float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {
 // The law's standard deviation of a pulse's mass, and the valve's jitter at its flow.
 float TopUpPulseLaw::spread_g(const Law& law, float seconds) {
   const TwoParameterRls::State& s = law.rls.state();
-  const float x1 = open_seconds(law, seconds), x2 = -1.0f;
+  const float x1 = open_seconds(law, seconds), x2 = loss_regressor(x1);
   const float variance = x1 * (s.p11 * x1 + s.p12 * x2) + x2 * (s.p12 * x1 + s.p22 * x2);
   return (variance > 0.0f ? std::sqrt(variance) : 0.0f) + kJitterS * s.theta1;
 }
@@ -112,7 +120,8 @@ TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g) {
 
 float TopUpPulseLaw::expected_g(bool half, float seconds) const {
   const Law& l = law(half);
-  const float m = l.rls.predict(open_seconds(l, seconds), -1.0f);
+  const float open_s = open_seconds(l, seconds);
+  const float m = l.rls.predict(open_s, loss_regressor(open_s));
   return m > 0.0f ? m : 0.0f;
 }
 

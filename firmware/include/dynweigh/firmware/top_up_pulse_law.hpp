@@ -27,8 +27,8 @@ class TopUpPulseLaw {
   };
   static constexpr float kFirstAim = 0.6f;    // share of the deficit, before any pulse was seen
   static constexpr float kLaterAim = 0.85f;   // at most, once the law has seen one
-  static constexpr float kLeastAim = 0.3f;    // at least, however unsure the law
-  static constexpr float kJitterS = 0.01f;    // the valve's timing jitter a pulse must allow for
+  static constexpr float kLeastAim = 0.5f;    // at least, however unsure the law
+  static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
 
   // A dose's full-open flow (grams per second), the share of it half open lets through, the
   // valve's stroke (closed to full open), and the longest pulse allowed.
