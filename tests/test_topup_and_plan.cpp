@@ -80,14 +80,14 @@ TEST(TopUp, TopupMaxBoundsTheModelsOwnPulses) {
   EXPECT_LT(d.true_error_g, -x1_limit_g(2000.0)) << d.result;
 }
 
-// A preact close 600 g early at 2 kg with `tol_action topup`, 20 pulses of 300 ms allowed (720 g
-// each at full flow): the load cell freezes while the fill settles. The frozen reading says the
-// fill is short for ever; no pulse may follow it.
+// A preact close 900 g early at 2 kg with `tol_action topup`, 20 pulses of 150 ms allowed (360 g
+// each at full flow): the load cell freezes once the fill has landed, before its result. The frozen
+// reading says the fill is short for ever; at most one pulse may follow it, never pulse after pulse.
 TEST(TopUp, AFrozenReadingEndsTheTopUpWithoutOverdosing) {
-  const std::vector<std::string> set_up = {"param preact_g 600", "param tol_reject_low_g 5", "param tol_warn_low_g 2",
-                                           "param topup_max 20", "param topup_ms 300"};
+  const std::vector<std::string> set_up = {"param preact_g 900", "param tol_reject_low_g 5", "param tol_warn_low_g 2",
+                                           "param topup_max 20", "param topup_ms 150"};
   std::uint32_t dose_jiffy = 0;
-  std::uint32_t cutoff = 0;
+  std::uint32_t certified = 0;
   {
     FaultRig dry(hal::host::SensorFaultPlan{}, hal::host::ValveFault::none, 0);
     for (const std::string& line : set_up) ASSERT_NE(dry.run_command(line).find("OK\n"), std::string::npos) << line;
@@ -96,11 +96,12 @@ TEST(TopUp, AFrozenReadingEndsTheTopUpWithoutOverdosing) {
     dose_jiffy = dry.jiffy();
     const std::string result = result_line(dry.run_command("dose 2000 preact", 20000));
     ASSERT_FALSE(result.empty());
-    cutoff = std::uint32_t(std::stoul(field(result, "cutoff")));
+    ASSERT_LT(std::stoi(field(result, "error")), -300) << result;
+    certified = std::uint32_t(std::stoul(field(result, "time"))) / 10;
   }
   hal::host::SensorFaultPlan freeze;
   freeze.fault = hal::host::SensorFault::freeze;
-  freeze.at_jiffy = dose_jiffy + cutoff + 20;  // the valve shut, the stream still landing
+  freeze.at_jiffy = dose_jiffy + certified - 15;  // landed, settling
   FaultRig rig(freeze, hal::host::ValveFault::none, 0);
   for (const std::string& line : set_up) ASSERT_NE(rig.run_command(line).find("OK\n"), std::string::npos) << line;
   ASSERT_NE(rig.run_command("param tol_action topup").find("OK\n"), std::string::npos);
