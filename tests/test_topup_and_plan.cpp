@@ -155,8 +155,8 @@ TEST(TopUpPulseLaw, LearnsFromEachPulseAndNeverOvershoots) {
 }
 
 // The default scene at 10 kg: the model's close is measured and its uncertainty small. X(10) needs
-// no more than full flow; X(0.5) needs a fine feed or a deliberate undershoot, and `estimates`
-// shows why (twice the uncertainty beyond the class's limit).
+// no more than full flow; X(0.5) needs a fine feed or a deliberate undershoot, and `estimates`' PLAN
+// line shows why (twice the uncertainty beyond the class's limit).
 TEST(DosePlan, SwitchesToAFineFeedOrATopUpWhenTheClassNeedsIt) {
   ConsoleSession loose;
   loose.run({"param class 10"});
@@ -169,7 +169,7 @@ TEST(DosePlan, SwitchesToAFineFeedOrATopUpWhenTheClassNeedsIt) {
   const Dose careful = dose(strict, 10000.0);
   const std::string plan = field(careful.result, "plan");
   EXPECT_TRUE(plan == "fine" || plan == "topup") << careful.result;
-  const std::string estimates = lines_of(strict.run({"estimates"})).front();
+  const std::string estimates = lines_of(strict.run({"estimates"})).at(1);
   EXPECT_EQ(field(estimates, "plan"), plan) << estimates;
   EXPECT_GT(2.0 * std::stod(field(estimates, "sigma_g")), std::stod(field(estimates, "limit_g"))) << estimates;
   EXPECT_LE(std::fabs(careful.true_error_g), 0.5 * x1_limit_g(10000.0)) << careful.result;

@@ -92,8 +92,9 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   write_estimate(console, "impact_m_s", s.valid, s.impact_speed_m_s, 2);
   write_estimate(console, "outflow_m_s", s.valid, s.outflow_speed_m_s, 2);
   write_estimate(console, "fall_mm", s.valid, 1000.0f * s.implied_fall_height_m, 0);
+  console.put('\n');
   const PlanChoice plan = indicator.dosing_.plan();
-  console.write(" plan=");
+  console.write("PLAN plan=");
   console.write(dose_plan_name(plan.plan));
   write_estimate(console, "sigma_g", true, plan.sigma_g, 1);
   write_estimate(console, "limit_g", true, plan.limit_g, 1);

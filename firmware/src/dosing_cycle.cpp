@@ -65,6 +65,8 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   planner_.start();
   plan_ = PlanChoice{};
   identical_samples_ = 0;
+  frozen_reading_ = false;
+  moved_in_dose_ = false;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
   awaiting_rest_ = true;  // step() opens, in this very jiffy if its sample finds the scale at rest
@@ -205,6 +207,23 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
   phase_ = Phase::pulsing;
 }
 
+// While the fill settles (after a close or a pulse) a live load cell's noise moves the reading every
+// few samples, and the landing stream and the platform's ringing move it more. Still for
+// kFrozenSamples samples there, once it has moved in this dose (before the first grains land it may
+// stand still), it is frozen. A noise-free simulated load cell looks frozen too: its fill is then
+// reported as it is, never topped up.
+void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
+  if (!fresh) return;
+  const bool still = net_weight_g == last_net_g_;
+  if (phase_ == Phase::settling && still && moved_in_dose_) {
+    if (++identical_samples_ >= kFrozenSamples) frozen_reading_ = true;
+  } else {
+    identical_samples_ = 0;
+  }
+  moved_in_dose_ = moved_in_dose_ || (!still && !awaiting_rest_);
+  last_net_g_ = net_weight_g;
+}
+
 PlanChoice DosingCycle::plan() const {
   if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) return plan_;
   PlanChoice baseline;
@@ -256,6 +275,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (phase_ == Phase::idle) return Outcome::running;
   ++jiffies_;
   valve_delay_100us_ = 0;
+  watch_for_frozen_reading(net_weight_g, fresh);
   const float elapsed_s = float(jiffies_) * jiffy_s_;
   if (phase_ == Phase::dosing && awaiting_rest_) {
     if (!standstill_.stable()) {
@@ -303,8 +323,6 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     }
     return Outcome::running;
   }
-  identical_samples_ = net_weight_g == last_net_g_ && fresh ? identical_samples_ + 1 : 0;
-  last_net_g_ = net_weight_g;
   // Settling: only once the last grain has landed does the reading describe the whole fill.
   if (jiffies_ < settle_from_jiffy_) return Outcome::running;
   if (certify(net_weight_g, filtered_weight_g)) {

@@ -63,9 +63,9 @@ class DosingCycle {
   // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
   bool learn_top_up(float delivered_g);
   bool sizes_top_ups() const { return top_up_flow_g_s_ > 0.0f; }
-  // The unfiltered reading has not moved for kFrozenSamples samples while the dose settled: a live
-  // load cell's noise moves it every few samples. No pulse may be sized or judged on such a reading.
-  bool reading_frozen() const { return identical_samples_ >= kFrozenSamples; }
+  // The unfiltered reading stood still for kFrozenSamples samples while the fill settled (after the
+  // close or a pulse): no pulse may be sized or judged on such a reading.
+  bool reading_frozen() const { return frozen_reading_; }
   static constexpr std::uint32_t kFrozenSamples = 8;
   const TopUpPulseLaw::Pulse& last_pulse() const { return pulse_; }
   // The model's plan at its close (a baseline's: twostage's coarse-and-fine is `fine`, the others
@@ -114,6 +114,7 @@ class DosingCycle {
   bool delivered_nothing() const;
   void keep_top_up_flow();
   float plan_step(float growth_g_per_jiffy);
+  void watch_for_frozen_reading(float net_weight_g, bool fresh);
   Outcome step_pulse();
 
   ModelCutoff model_;
@@ -159,6 +160,8 @@ class DosingCycle {
   std::uint32_t closed_jiffy_ = 0;
   std::uint32_t identical_samples_ = 0;
   float last_net_g_ = 0.0f;
+  bool frozen_reading_ = false;
+  bool moved_in_dose_ = false;
   std::uint32_t open_jiffy_ = 0;
   float dose_open_s_ = 0.0f;  // the dose as one full-open pulse (0: it was not one)
 };
