@@ -20,7 +20,8 @@ const char* dose_plan_name(DosePlan plan) {
   return "full";
 }
 
-void DosePlanner::configure(float class_x, float half_flow_ratio) {
+void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed) {
+  fine_feed_ = fine_feed;
   class_x_ = class_x > 0.0f ? class_x : 1.0f;
   half_flow_ratio_ = half_flow_ratio > 0.0f && half_flow_ratio <= 1.0f ? half_flow_ratio : 0.5f;
 }
@@ -53,7 +54,7 @@ PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_fligh
   c.sigma_g = measuring ? measured_share * in_flight : kBlindShare * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;
   // Half open: less in flight by the flow's ratio, and the half-open stream measured again.
-  if (measuring && kSigmas * measured_share * in_flight * half_flow_ratio_ <= c.limit_g) {
+  if (fine_feed_ && measuring && kSigmas * measured_share * in_flight * half_flow_ratio_ <= c.limit_g) {
     c.plan = DosePlan::fine;
     return c;
   }

@@ -20,6 +20,7 @@ constexpr float kLandingMarginS = 0.03f;
 // be off by 40 %): a top-up then sizes its first pulse from the prior taken this much high, so that it
 // falls short rather than over.
 constexpr float kBlindFlowMargin = 1.4f;
+constexpr float kNoStreamYetFactor = 2.0f;
 // A pulse the scale saw less of than this share of what it should have delivered (at least a gram)
 // moved nothing: a frozen reading or an empty silo. (A valve slower than its datasheet lets through
 // far less than expected, but not nothing: the law learns that.)
@@ -38,7 +39,7 @@ void DosingCycle::configure(const Parameters& p) {
   pac_.configure(p);
   flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
-  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio());
+  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), model_fine_s_ > 0.0f);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
@@ -98,7 +99,7 @@ bool DosingCycle::decide_model(float net_weight_g) {
   const float aim = target - plan_step(growth);
   // A half-open fine feed for the last fine_s of full flow: less material in flight means less of
   // the flow's fluctuation left unobserved at the close.
-  const float fine_s = plan_.plan == DosePlan::fine && model_fine_s_ <= 0.0f ? DosePlanner::kFineFeedS : model_fine_s_;
+  const float fine_s = model_fine_s_;
   if (fine_s > 0.0f && !model_.fine_feeding() && model_.measuring() &&
       last_prediction_g_ + growth * fine_s / jiffy_s_ >= aim) {
     model_.switch_to_half(last_prediction_g_);
@@ -125,6 +126,14 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
   if (result_.strategy != DosingStrategy::model || model_.fine_feeding()) return plan_.margin_g;
   if (model_.measuring()) planner_.observe_rate(growth_g_per_jiffy);
   const float in_flight_g = growth_g_per_jiffy / jiffy_s_ * model_.settle_delay_s();
+  // Open for twice the time the first grains need to land and still nothing measured: no stream
+  // (a valve stuck shut, an empty silo) rather than a close too early to see one. Aiming short
+  // then only closes sooner on a prior the supervision is still checking: plan as before.
+  const float open_s = float(jiffies_ - open_jiffy_) * jiffy_s_;
+  if (!model_.measuring() && open_s > kNoStreamYetFactor * model_.settle_delay_s()) {
+    plan_ = PlanChoice{};
+    return 0.0f;
+  }
   plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring());
   return plan_.margin_g;
 }

@@ -3,7 +3,9 @@
 // and its own uncertainty about where a close now would end. The fastest plan that meets the class:
 //   full   full flow to the close, when twice the uncertainty fits in the class's warning limit;
 //   fine   full flow, then a half-open fine feed before the close (less in flight, re-measured),
-//          when that fits and the stream is measured;
+//          when that fits, the stream is measured and the fine feed is enabled (`model_fine_s` > 0:
+//          its length; a fine feed the plan chose by itself upset the valve supervision of the
+//          next doses on a slow valve, so it is not chosen unasked);
 //   topup  a deliberate undershoot: the close aims short by what does not fit, so that the fill
 //          ends below the target rather than over it, and top-up pulses finish it.
 // The uncertainty: a close before the stream is measured rests on the prior (off by up to 40 %:
@@ -27,12 +29,12 @@ class DosePlanner {
  public:
   static constexpr float kSigmas = 2.0f;
   static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close, share of the fill
-  static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
-  static constexpr float kFluctuationWeight = 0.3f; // of the rate's fluctuation, what the in-flight keeps
-  static constexpr float kFineFeedS = 0.3f;         // the fine feed's length when model_fine_s is 0
+  static constexpr float kEstimatorShare = 0.005f;  // the estimator's error, share of the in-flight
+  static constexpr float kFluctuationWeight = 0.05f;  // of the rate's fluctuation, what the in-flight keeps
 
-  // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full.
-  void configure(float class_x, float half_flow_ratio);
+  // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
+  // `fine_feed` whether the plan may choose a fine feed.
+  void configure(float class_x, float half_flow_ratio, bool fine_feed);
   void start();
   // Each jiffy the stream is measured: the landing rate, for its fluctuation.
   void observe_rate(float rate_g_per_jiffy);
@@ -45,6 +47,7 @@ class DosePlanner {
  private:
   float class_x_ = 1.0f;
   float half_flow_ratio_ = 0.5f;
+  bool fine_feed_ = false;
   std::uint32_t rates_ = 0;
   float mean_ = 0.0f;
   float m2_ = 0.0f;
