@@ -29,8 +29,8 @@ class DosePlanner {
  public:
   static constexpr float kSigmas = 2.0f;
   static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close, share of the fill
-  static constexpr float kEstimatorShare = 0.005f;  // the estimator's error, share of the in-flight
-  static constexpr float kFluctuationWeight = 0.05f;  // of the rate's fluctuation, what the in-flight keeps
+  static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
+  static constexpr float kFluctuationWeight = 0.3f;   // of the rate's fluctuation, what the in-flight keeps
 
   // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
   // `fine_feed` whether the plan may choose a fine feed.
