@@ -65,9 +65,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   topping_up_ = false;
   planner_.start();
   plan_ = PlanChoice{};
-  identical_samples_ = 0;
   frozen_reading_ = false;
-  moved_in_dose_ = false;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
   awaiting_rest_ = true;  // step() opens, in this very jiffy if its sample finds the scale at rest
@@ -176,6 +174,7 @@ void DosingCycle::close_valve(float settle_delay_s) {
   phase_ = Phase::settling;
   if (!topping_up_) result_.cutoff_jiffy = jiffies_;
   closed_jiffy_ = jiffies_;
+  moved_since_close_ = false;
   settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil((settle_delay_s + kLandingMarginS) / jiffy_s_));
 }
 
@@ -216,20 +215,14 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
   phase_ = Phase::pulsing;
 }
 
-// While the fill settles (after a close or a pulse) a live load cell's noise moves the reading every
-// few samples, and the landing stream and the platform's ringing move it more. Still for
-// kFrozenSamples samples there, once it has moved in this dose (before the first grains land it may
-// stand still), it is frozen. A noise-free simulated load cell looks frozen too: its fill is then
-// reported as it is, never topped up.
+// Between a close (or a pulse's end) and the computed landing of its last grain, the grains in
+// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen.
 void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
   if (!fresh) return;
-  const bool still = net_weight_g == last_net_g_;
-  if (phase_ == Phase::settling && still && moved_in_dose_) {
-    if (++identical_samples_ >= kFrozenSamples) frozen_reading_ = true;
-  } else {
-    identical_samples_ = 0;
+  if (phase_ == Phase::settling && jiffies_ <= settle_from_jiffy_) {
+    if (net_weight_g != last_net_g_) moved_since_close_ = true;
+    if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) frozen_reading_ = true;
   }
-  moved_in_dose_ = moved_in_dose_ || (!still && !awaiting_rest_);
   last_net_g_ = net_weight_g;
 }
 
