@@ -66,6 +66,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   planner_.start();
   plan_ = PlanChoice{};
   frozen_reading_ = false;
+  still_samples_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
   awaiting_rest_ = true;  // step() opens, in this very jiffy if its sample finds the scale at rest
@@ -216,12 +217,19 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
 }
 
 // Between a close (or a pulse's end) and the computed landing of its last grain, the grains in
-// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen.
+// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen;
+// so is one that stands still for kFrozenSamples samples once they have landed (a live load cell's
+// noise and the platform's ringing move it every few samples).
 void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
   if (!fresh) return;
-  if (phase_ == Phase::settling && jiffies_ <= settle_from_jiffy_) {
-    if (net_weight_g != last_net_g_) moved_since_close_ = true;
+  const bool still = net_weight_g == last_net_g_;
+  if (phase_ == Phase::settling) {
+    if (!still) moved_since_close_ = true;
     if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) frozen_reading_ = true;
+    still_samples_ = still && jiffies_ > settle_from_jiffy_ ? still_samples_ + 1 : 0;
+    if (still_samples_ >= kFrozenSamples) frozen_reading_ = true;
+  } else {
+    still_samples_ = 0;
   }
   last_net_g_ = net_weight_g;
 }

@@ -64,8 +64,10 @@ class DosingCycle {
   bool learn_top_up(float delivered_g);
   bool sizes_top_ups() const { return top_up_flow_g_s_ > 0.0f; }
   // The unfiltered reading did not move once while the grains in flight at the close (or at a
-  // pulse's end) landed: no pulse may be sized or judged on such a reading.
+  // pulse's end) landed, or stood still for kFrozenSamples samples while the fill settled: no pulse
+  // may be sized or judged on such a reading.
   bool reading_frozen() const { return frozen_reading_; }
+  static constexpr std::uint32_t kFrozenSamples = 30;
   const TopUpPulseLaw::Pulse& last_pulse() const { return pulse_; }
   // The model's plan at its close (a baseline's: twostage's coarse-and-fine is `fine`, the others
   // close from full flow), and the flow's fluctuation it saw.
@@ -160,6 +162,7 @@ class DosingCycle {
   float last_net_g_ = 0.0f;
   bool frozen_reading_ = false;
   bool moved_since_close_ = false;
+  std::uint32_t still_samples_ = 0;
   std::uint32_t open_jiffy_ = 0;
   float dose_open_s_ = 0.0f;  // the dose as one full-open pulse (0: it was not one)
 };
