@@ -10,9 +10,10 @@ namespace dynweigh::testing {
 namespace {
 
 // The installation values of the ideal scene: instant valve, and a fall height that stays fixed
-// (the ideal model's constant h).
+// (the ideal model's constant h); a class loose enough that the plan is full flow to the close (no
+// deliberate undershoot, no fine feed, no top-up): the close alone is measured.
 const std::vector<std::string> kIdealInstallation = {"param valve_dead_ms 0", "param valve_stroke_ms 0",
-                                                     "param pile_rise 0"};
+                                                     "param pile_rise 0", "param class 100"};
 
 double true_error_g(const std::string& dose, std::uint64_t seed, const std::vector<std::string>& setup,
                     const sim::Scene& scene) {

@@ -99,8 +99,11 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   const MaterialTable& materials = indicator.settings_.materials;
   const MaterialLearning& learned = materials.at(materials.selected()).learned;
   const bool measured = e.impact_timed || e.measured;
-  if (!measured && learned.empty()) return console.error(2, "no model dose measured yet");
-  if (measured) {
+  const DoseResult& last = indicator.dosing_.result();
+  const bool model_dosed = last.target_g > 0 && (last.strategy == DosingStrategy::model || last.strategy == DosingStrategy::learn);
+  // A close before the first impact measured nothing, but its plan tells why it closed where it did.
+  if (!measured && !model_dosed && learned.empty()) return console.error(2, "no model dose measured yet");
+  if (measured || model_dosed) {
     const auto& s = e.signature;
     console.write("ESTIMATES");
     write_estimate(console, "impact_ms", e.impact_timed, 1000.0f * e.first_impact_s, 1);
@@ -115,6 +118,16 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
     console.put('\n');
   }
   write_learned(console, materials.selected(), learned);
+  if (model_dosed) {
+    const PlanChoice plan = indicator.dosing_.plan();
+    console.write("PLAN plan=");
+    console.write(dose_plan_name(plan.plan));
+    write_estimate(console, "sigma_g", true, plan.sigma_g, 1);
+    write_estimate(console, "limit_g", true, plan.limit_g, 1);
+    write_estimate(console, "margin_g", true, plan.margin_g, 1);
+    write_estimate(console, "fluctuation_pct", true, 100.0f * indicator.dosing_.flow_fluctuation(), 1);
+    console.put('\n');
+  }
   indicator.ok();
 }
 

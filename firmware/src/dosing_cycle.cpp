@@ -16,6 +16,18 @@ constexpr float kConfidenceSigmas = 1.0f;
 // After the computed landing of the last grain (the valve shut, the last grains fallen from rest):
 // the dispersion relaxation and the jitter of the valve's dead time.
 constexpr float kLandingMarginS = 0.03f;
+// A close made before the stream was measured knows the flow only from its prior (the density may
+// be off by 40 %): a top-up then sizes its first pulse from the prior taken this much high, so that it
+// falls short rather than over.
+constexpr float kBlindFlowMargin = 1.4f;
+constexpr float kNoStreamYetFactor = 2.0f;
+// A pulse the scale saw less of than this share of what it should have delivered (at least a gram)
+// moved nothing: a frozen reading or an empty silo. (A valve slower than its datasheet lets through
+// far less than expected, but not nothing: the law learns that.)
+constexpr float kNothingSeenShare = 0.03f;
+// The longest pulse sized from a measured flow: each aims short of the deficit anyway.
+constexpr float kLongestSizedPulseS = 2.0f;
+constexpr float kNothingSeenG = 1.0f;
 }  // namespace
 
 void DosingCycle::configure(const Parameters& p) {
@@ -27,6 +39,7 @@ void DosingCycle::configure(const Parameters& p) {
   pac_.configure(p);
   flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
+  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), model_fine_s_ > 0.0f);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
@@ -48,6 +61,12 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   settling_fit_.reset();
   estimates_ = 0;
   blind_jiffies_ = 0;
+  top_up_flow_g_s_ = 0.0f;
+  topping_up_ = false;
+  planner_.start();
+  plan_ = PlanChoice{};
+  frozen_reading_ = false;
+  still_samples_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
   awaiting_rest_ = true;  // step() opens, in this very jiffy if its sample finds the scale at rest
@@ -55,6 +74,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
 
 void DosingCycle::open_from_rest() {
   awaiting_rest_ = false;
+  open_jiffy_ = jiffies_;
   start_weight_g_ = standstill_.mean();
   model_.start(start_weight_g_);
   two_stage_.start(float(result_.target_g));
@@ -75,30 +95,51 @@ bool DosingCycle::decide_model(float net_weight_g) {
     last_prediction_g_ += learning_->correction_g(learning_key_);
   }
   const float growth = model_.growth_per_jiffy_g();
-  // The speed knob: a half-open fine feed for the last model_fine_s of full flow. Less material
-  // in flight means less of the flow's fluctuation left unobserved at the close.
-  if (model_fine_s_ > 0.0f && !model_.fine_feeding() && model_.measuring() &&
-      last_prediction_g_ + growth * model_fine_s_ / jiffy_s_ >= target) {
+  const float aim = target - plan_step(growth);
+  // A half-open fine feed for the last fine_s of full flow: less material in flight means less of
+  // the flow's fluctuation left unobserved at the close.
+  const float fine_s = model_fine_s_;
+  if (fine_s > 0.0f && !model_.fine_feeding() && model_.measuring() &&
+      last_prediction_g_ + growth * fine_s / jiffy_s_ >= aim) {
     model_.switch_to_half(last_prediction_g_);
+    plan_.plan = DosePlan::fine;
     valve_ = ValveCommand::half;
     return false;
   }
   const float earliest = model_.earliest_close_fraction();
   if (!subjiffy_) {
     // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
-    const bool close = earliest <= 0.0f && last_prediction_g_ + 0.5f * growth >= target;
+    const bool close = earliest <= 0.0f && last_prediction_g_ + 0.5f * growth >= aim;
     if (close) model_.closed(0.0f);
     return close;
   }
-  if (last_prediction_g_ + growth < target || earliest > 0.99f) return false;
-  // The target falls within the coming jiffy: close exactly when the prediction reaches it.
-  const float fraction = growth > 0.0f ? (target - last_prediction_g_) / growth : 0.0f;
+  if (last_prediction_g_ + growth < aim || earliest > 0.99f) return false;
+  // The aim falls within the coming jiffy: close exactly when the prediction reaches it.
+  const float fraction = growth > 0.0f ? (aim - last_prediction_g_) / growth : 0.0f;
   const float lowest = earliest > 0.0f ? earliest : 0.0f;
   const float clamped = fraction < lowest ? lowest : (fraction > 0.99f ? 0.99f : fraction);
   valve_delay_100us_ = std::uint8_t(std::lround(clamped * jiffy_s_ * 1e4f));
   if (valve_delay_100us_ > 99) valve_delay_100us_ = 99;
   model_.closed(float(valve_delay_100us_) / (jiffy_s_ * 1e4f));
   return true;
+}
+
+// The model's plan for a close now (dose_plan.hpp); returns how far short of the target to aim.
+// Once the fine feed runs, the plan is kept: the half-open stream is measured again anyway.
+float DosingCycle::plan_step(float growth_g_per_jiffy) {
+  if (result_.strategy != DosingStrategy::model || model_.fine_feeding()) return plan_.margin_g;
+  if (model_.measuring()) planner_.observe_rate(growth_g_per_jiffy);
+  const float in_flight_g = growth_g_per_jiffy / jiffy_s_ * model_.settle_delay_s();
+  // Open for twice the time the first grains need to land and still nothing measured: no stream
+  // (a valve stuck shut, an empty silo) rather than a close too early to see one. Aiming short
+  // then only closes sooner on a prior the supervision is still checking: plan as before.
+  const float open_s = float(jiffies_ - open_jiffy_) * jiffy_s_;
+  if (!model_.measuring() && open_s > kNoStreamYetFactor * model_.settle_delay_s()) {
+    plan_ = PlanChoice{};
+    return 0.0f;
+  }
+  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring());
+  return plan_.margin_g;
 }
 
 bool DosingCycle::decide_preact(float filtered_weight_g, float preact_g) {
@@ -129,10 +170,92 @@ bool DosingCycle::decide_flow_baseline(float filtered_weight_g) {
 }
 
 void DosingCycle::close_valve(float settle_delay_s) {
+  if (phase_ == Phase::dosing) {
+    keep_top_up_flow();
+    // Full open from the open command to this close (a fine feed is no such pulse).
+    const bool one_pulse = !model_.fine_feeding() && valve_ == ValveCommand::open;
+    dose_open_s_ = one_pulse ? float(jiffies_ - open_jiffy_) * jiffy_s_ + float(valve_delay_100us_) * 1e-4f : 0.0f;
+  }
   valve_ = ValveCommand::closed;
   phase_ = Phase::settling;
-  result_.cutoff_jiffy = jiffies_;
+  if (!topping_up_) result_.cutoff_jiffy = jiffies_;
+  closed_jiffy_ = jiffies_;
+  moved_since_close_ = false;
   settle_from_jiffy_ = jiffies_ + std::uint32_t(std::ceil((settle_delay_s + kLandingMarginS) / jiffy_s_));
+}
+
+// The full-open flow a top-up of this dose is sized from: the model's measured one (from half open
+// after a fine feed), or its prior taken high when it closed before measuring.
+void DosingCycle::keep_top_up_flow() {
+  top_up_flow_g_s_ = 0.0f;
+  if (result_.strategy != DosingStrategy::model && result_.strategy != DosingStrategy::learn) return;
+  float flow_g_s = 1000.0f * model_.measured_flow_kg_s();
+  if (model_.fine_feeding() && model_.half_flow_ratio() > 0.0f) flow_g_s /= model_.half_flow_ratio();
+  if (!model_.measuring()) flow_g_s *= kBlindFlowMargin;
+  top_up_flow_g_s_ = flow_g_s > 0.0f ? flow_g_s : 0.0f;
+}
+
+void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
+  if (!topping_up_ && sizes_top_ups()) {
+    top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_in_use_s_now(), kLongestSizedPulseS);
+    if (dose_open_s_ > 0.0f) top_up_law_.observe_dose(dose_open_s_, float(result_.final_g));
+  }
+  topping_up_ = true;
+  if (sizes_top_ups()) {
+    pulse_ = top_up_law_.size(deficit_g);
+  } else {
+    pulse_ = TopUpPulseLaw::Pulse{ValveCommand::open, fixed_pulse_s, 0.0f};
+  }
+  // Whole jiffies from this one's output; a pulse off the grid opens late within the first jiffy.
+  const float jiffies = pulse_.seconds / jiffy_s_;
+  std::uint32_t whole = std::uint32_t(subjiffy_ ? std::ceil(jiffies) : std::round(jiffies));
+  if (whole < 1) whole = 1;
+  const float early_s = float(whole) * jiffy_s_ - pulse_.seconds;
+  const long delay = subjiffy_ && early_s > 0.0f ? std::lround(early_s * 1e4f) : 0;
+  valve_delay_100us_ = std::uint8_t(delay > 99 ? 99 : delay);
+  pulse_end_jiffy_ = jiffies_ + whole;
+  stable_.reset();
+  settling_fit_.reset();
+  estimates_ = 0;
+  valve_ = pulse_.command;
+  phase_ = Phase::pulsing;
+}
+
+// Between a close (or a pulse's end) and the computed landing of its last grain, the grains in
+// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen;
+// so is one that stands still for kFrozenSamples samples once they have landed (a live load cell's
+// noise and the platform's ringing move it every few samples).
+void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
+  if (!fresh) return;
+  const bool still = net_weight_g == last_net_g_;
+  if (phase_ == Phase::settling) {
+    if (!still) moved_since_close_ = true;
+    if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) frozen_reading_ = true;
+    still_samples_ = still && jiffies_ > settle_from_jiffy_ ? still_samples_ + 1 : 0;
+    if (still_samples_ >= kFrozenSamples) frozen_reading_ = true;
+  } else {
+    still_samples_ = 0;
+  }
+  last_net_g_ = net_weight_g;
+}
+
+PlanChoice DosingCycle::plan() const {
+  if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) return plan_;
+  PlanChoice baseline;
+  baseline.plan = result_.strategy == DosingStrategy::twostage ? DosePlan::fine : DosePlan::full;
+  return baseline;
+}
+
+bool DosingCycle::learn_top_up(float delivered_g) {
+  const float least = kNothingSeenShare * pulse_.expected_g;
+  if (delivered_g < (least > kNothingSeenG ? least : kNothingSeenG)) return false;
+  if (sizes_top_ups()) top_up_law_.learn(pulse_, delivered_g);
+  return true;
+}
+
+DosingCycle::Outcome DosingCycle::step_pulse() {
+  if (jiffies_ >= pulse_end_jiffy_) close_valve(model_.settle_delay_s());
+  return Outcome::running;
 }
 
 bool DosingCycle::certify_dynamically() const {
@@ -167,6 +290,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (phase_ == Phase::idle) return Outcome::running;
   ++jiffies_;
   valve_delay_100us_ = 0;
+  watch_for_frozen_reading(net_weight_g, fresh);
   const float elapsed_s = float(jiffies_) * jiffy_s_;
   if (phase_ == Phase::dosing && awaiting_rest_) {
     if (!standstill_.stable()) {
@@ -176,6 +300,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     }
     open_from_rest();  // and decide in this jiffy, as a dose that found the scale at rest does
   }
+  if (phase_ == Phase::pulsing) return step_pulse();
   if (phase_ == Phase::dosing && !fresh) {
     // No sample: nothing to decide on. If the fill could reach the target before the supervisor
     // declares the sensor stale, close now: an early close underfills, a blind one overdoses.
@@ -218,6 +343,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (certify(net_weight_g, filtered_weight_g)) {
     result_.time_ms = std::uint32_t(std::lround(elapsed_s * 1000.0f));
     phase_ = Phase::idle;
+    if (topping_up_) return Outcome::certified;  // the strategies learn from their own close only
     if (delivered_nothing()) return Outcome::nothing_delivered;  // teaches nothing
     if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
     if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
@@ -227,7 +353,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     }
     return Outcome::certified;
   }
-  if (float(jiffies_ - result_.cutoff_jiffy) * jiffy_s_ > settle_limit_s_) {
+  if (float(jiffies_ - closed_jiffy_) * jiffy_s_ > settle_limit_s_) {
     abort();
     return Outcome::never_stable;
   }

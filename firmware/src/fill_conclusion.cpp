@@ -8,36 +8,43 @@ namespace dynweigh::firmware {
 
 void Indicator::conclude_dose() {
   concluding_ = dosing_.result();
-  follow_up_.begin(dosing_.start_weight_g());
+  follow_up_.begin();
   judge_result();
 }
 
-// Each jiffy of a top-up: the pulse, then the settling; a settled scale is judged anew.
-void Indicator::advance_follow_up() {
-  const ToleranceFollowUp::Phase phase = follow_up_.phase();
-  if (phase != ToleranceFollowUp::Phase::pulsing && phase != ToleranceFollowUp::Phase::settling) return;
-  switch (follow_up_.step(filtered_weight_g())) {
-    case ToleranceFollowUp::Event::none:
-      return;
-    case ToleranceFollowUp::Event::never_stable:
-      return raise(Fault::never_stable);
-    case ToleranceFollowUp::Event::settled:
-      concluding_.final_g = std::int32_t(std::lround(follow_up_.settled_fill_g()));
-      return judge_result();
-  }
+// A top-up pulse certified: what it delivered sizes the next one; a pulse the scale saw nothing of
+// ends the top-up with the result as it is.
+void Indicator::conclude_top_up() {
+  const float delivered_g = float(dosing_.result().final_g - concluding_.final_g);
+  if (!dosing_.learn_top_up(delivered_g)) follow_up_.stop_topping_up();
+  concluding_ = dosing_.result();
+  follow_up_.finish();
+  judge_result();
+}
+
+void Indicator::start_top_up() {
+  follow_up_.start_top_up();
+  dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s());
 }
 
 void Indicator::judge_result() {
   const Parameters& p = settings_.parameters;
   verdict_ = judge_tolerance(float(concluding_.final_g - concluding_.target_g),
                              tolerance_bands(float(concluding_.target_g), p));
+  // The model strategy finishes a fill short of its class's warning limit itself (its plan may
+  // have aimed short on purpose); tol_action judges what the top-ups left.
+  const bool short_of_class = verdict_ == ToleranceVerdict::warn_low || verdict_ == ToleranceVerdict::low;
+  const bool may_top_up = follow_up_.may_top_up() && !dosing_.reading_frozen();
+  if (concluding_.strategy == DosingStrategy::model && short_of_class && may_top_up) {
+    return start_top_up();
+  }
   const auto action = static_cast<ToleranceAction>(static_cast<int>(p.get(ParameterId::tol_action)));
   if (!outside_reject_band(verdict_) || action == ToleranceAction::accept) return report_result();
-  if (action == ToleranceAction::topup && verdict_ == ToleranceVerdict::low && follow_up_.may_top_up()) {
-    return follow_up_.start_top_up();
+  if (action == ToleranceAction::topup && verdict_ == ToleranceVerdict::low && may_top_up) {
+    return start_top_up();
   }
   if (action == ToleranceAction::hold) return report_hold();
-  report_result();  // topup: over the target, or topup_max reached
+  report_result();  // topup: over the target, topup_max reached, or a pulse that moved nothing
 }
 
 // `<tag> target= final= error=`: how RESULT and HOLD lines begin.
@@ -93,6 +100,8 @@ void Indicator::report_result() {
   write_verdict_fields();
   console_.write(" material=");
   console_.write_int(std::int64_t(settings_.materials.selected()));
+  console_.write(" plan=");
+  console_.write(dose_plan_name(dosing_.plan().plan));
   console_.write(" seq=");
   console_.write_int(logged ? last_sequence_ : 0);
   console_.put('\n');
@@ -124,7 +133,8 @@ void ConsoleCommands::topup(Indicator& indicator, const Arguments& args) {
   if (indicator.fault_ != Fault::none) return console.error(4, "fault active");
   if (indicator.concluding_.final_g >= indicator.concluding_.target_g) return console.error(2, "not under the target");
   if (!indicator.follow_up_.may_top_up()) return console.error(2, "topup_max reached");
-  indicator.follow_up_.start_top_up();
+  if (indicator.dosing_.reading_frozen()) return console.error(2, "reading frozen");
+  indicator.start_top_up();
   indicator.dose_command_pending_ = true;  // answers like the dose: RESULT, or HOLD again
 }
 

@@ -86,7 +86,6 @@ void Indicator::command(bool fresh_sample) {
 // The dosing cycle on this jiffy's sample, what follows its certified result, and the discharge.
 void Indicator::dose() {
   advance_dose();
-  advance_follow_up();
   advance_discharge();
 }
 
@@ -100,7 +99,7 @@ void Indicator::actuate() {
   } else if (dose_running()) {
     valve_ = dosing_.valve();
   } else if (follow_up_.active()) {
-    valve_ = follow_up_.valve();
+    valve_ = ValveCommand::closed;  // held for the operator
   } else {
     valve_ = scheduled;
   }
@@ -148,12 +147,10 @@ Indicator::Activity Indicator::activity() const {
   const DosingCycle::Phase phase = dosing_.phase();
   if (fault_ != Fault::none) return Activity::fault;
   if (follow_up == ToleranceFollowUp::Phase::holding) return Activity::hold;
-  if (phase == DosingCycle::Phase::dosing || test_.active || follow_up == ToleranceFollowUp::Phase::pulsing) {
+  if (phase == DosingCycle::Phase::dosing || phase == DosingCycle::Phase::pulsing || test_.active) {
     return Activity::dosing;
   }
-  if (phase == DosingCycle::Phase::settling || follow_up == ToleranceFollowUp::Phase::settling) {
-    return Activity::settling;
-  }
+  if (phase == DosingCycle::Phase::settling) return Activity::settling;
   if (discharge_.active()) return Activity::discharging;
   return Activity::idle;
 }
@@ -253,6 +250,7 @@ void Indicator::advance_dose() {
     case DosingCycle::Outcome::certified:
       break;
   }
+  if (follow_up_.topping_up()) return conclude_top_up();
   learn_from_result();
   conclude_dose();
 }

@@ -69,7 +69,7 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"tol_action", "a result outside the reject band: accept, topup (while low), hold (for accept or topup)", 0,
      2, 0, kToleranceActionNames, 3},
     {"topup_max", "top-up pulses at most per dose", 0, 20, 3, nullptr, 0},
-    {"topup_ms", "a top-up pulse opens the valve this long, ms", 10, 5000, 50, nullptr, 0},
+    {"topup_ms", "a top-up pulse of a baseline strategy, ms", 10, 5000, 50, nullptr, 0},
     {"auto_discharge", "1: discharge after each dose", 0, 1, 0, nullptr, 0},
     {"empty_band_g", "empty: gross this near zero, g", 0.1f, 100000, 20, nullptr, 0},
     {"discharge_timeout_s", "fault: not empty by then, s", 1, 3600, 30, nullptr, 0},

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dynweigh/firmware/tolerance.hpp"
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/plant_family.hpp"
@@ -216,6 +217,11 @@ std::string plant_job(const PlantFamilyOptions& o, const std::string& strategy, 
     if (known) {
       const bool two_stage = bench_strategy == BenchStrategy::twostage || bench_strategy == BenchStrategy::twostage_dyn;
       set_up_strategy({bench_strategy, two_stage ? 1.0 : 0.0, 0, target_g}, scenario, settings);
+      // Every baseline gets the top-up industrial indicators offer (its fixed `topup_ms` pulses);
+      // the model tops up by itself.
+      if (bench_strategy != BenchStrategy::model && bench_strategy != BenchStrategy::learn) {
+        settings.parameters.set(firmware::ParameterId::tol_action, float(firmware::ToleranceAction::topup));
+      }
     }
     const double t_phys = physical_minimum_s(plant.scene, target_g);
     Cell cell;

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/baseline_learning.hpp"
+#include "dynweigh/firmware/dose_plan.hpp"
 #include "dynweigh/firmware/dosing_strategy.hpp"
 #include "dynweigh/firmware/fault.hpp"
 #include "dynweigh/firmware/flow_preact_cutoff.hpp"
@@ -16,6 +17,7 @@
 #include "dynweigh/firmware/pac_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
+#include "dynweigh/firmware/top_up_pulse_law.hpp"
 #include "dynweigh/firmware/two_stage_cutoff.hpp"
 #include "dynweigh/model/damped_settling_fit.hpp"
 
@@ -31,7 +33,7 @@ struct DoseResult {
 
 class DosingCycle {
  public:
-  enum class Phase : std::uint8_t { idle, dosing, settling };
+  enum class Phase : std::uint8_t { idle, dosing, settling, pulsing };
   // `nothing_delivered`: whatever the strategy, a dose whose certified fill is no more than its own
   // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) delivered
   // nothing a filling line can use: a silo run empty, a valve that let nothing through, while a
@@ -50,6 +52,27 @@ class DosingCycle {
   // jiffy brought no sample (the weights are the last ones held).
   Outcome step(float net_weight_g, float filtered_weight_g, bool fresh = true);
   void abort() { phase_ = Phase::idle; valve_ = ValveCommand::closed; }
+
+  // A top-up of the certified result, `deficit_g` short of the target: one valve pulse, then the
+  // dose settles and is certified again as it was the first time (step() returns `certified`; the
+  // result's final and time then include the pulse, its cutoff stays the first close's). The pulse
+  // is sized from the flow the dose measured (top_up_pulse_law.hpp), at most `fixed_pulse_s`; a
+  // strategy that measured no flow pulses `fixed_pulse_s` full open.
+  void start_top_up(float deficit_g, float fixed_pulse_s);
+  // After the top-up's certified result: what the pulse delivered; false if the scale saw (about)
+  // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
+  bool learn_top_up(float delivered_g);
+  bool sizes_top_ups() const { return top_up_flow_g_s_ > 0.0f; }
+  // The unfiltered reading did not move once while the grains in flight at the close (or at a
+  // pulse's end) landed, or stood still for kFrozenSamples samples while the fill settled: no pulse
+  // may be sized or judged on such a reading.
+  bool reading_frozen() const { return frozen_reading_; }
+  static constexpr std::uint32_t kFrozenSamples = 30;
+  const TopUpPulseLaw::Pulse& last_pulse() const { return pulse_; }
+  // The model's plan at its close (a baseline's: twostage's coarse-and-fine is `fine`, the others
+  // close from full flow), and the flow's fluctuation it saw.
+  PlanChoice plan() const;
+  float flow_fluctuation() const { return planner_.fluctuation(); }
 
   Phase phase() const { return phase_; }
   ValveCommand valve() const { return valve_; }
@@ -94,6 +117,10 @@ class DosingCycle {
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
   bool delivered_nothing() const;
+  void keep_top_up_flow();
+  float plan_step(float growth_g_per_jiffy);
+  void watch_for_frozen_reading(float net_weight_g, bool fresh);
+  Outcome step_pulse();
 
   ModelCutoff model_;
   TwoStageCutoff two_stage_;
@@ -127,6 +154,21 @@ class DosingCycle {
   std::uint32_t estimates_ = 0;
   std::uint32_t blind_jiffies_ = 0;
   std::uint32_t blind_horizon_jiffies_ = 10;  // the stale-sample limit: blind this long, a dose faults
+
+  DosePlanner planner_;
+  PlanChoice plan_;
+  TopUpPulseLaw top_up_law_;
+  TopUpPulseLaw::Pulse pulse_;
+  float top_up_flow_g_s_ = 0.0f;  // full open, as measured at the close (0: none measured)
+  bool topping_up_ = false;
+  std::uint32_t pulse_end_jiffy_ = 0;
+  std::uint32_t closed_jiffy_ = 0;
+  float last_net_g_ = 0.0f;
+  bool frozen_reading_ = false;
+  bool moved_since_close_ = false;
+  std::uint32_t still_samples_ = 0;
+  std::uint32_t open_jiffy_ = 0;
+  float dose_open_s_ = 0.0f;  // the dose as one full-open pulse (0: it was not one)
 };
 
 }  // namespace dynweigh::firmware

@@ -128,7 +128,8 @@ class Indicator {
   void learn_from_result();
   // The certified result judged against its tolerance: reported, topped up or held (fill_conclusion.cpp).
   void conclude_dose();
-  void advance_follow_up();
+  void conclude_top_up();
+  void start_top_up();
   void judge_result();
   void report_result();
   void report_hold();

@@ -59,6 +59,7 @@ class BasicModelCutoff {
   // time in use, once it is clearly off the datasheet's.
   void measured_valve_travel(Scalar mean_s, std::uint32_t strokes) { valve_.measured_travel(mean_s, strokes); }
   Scalar stroke_in_use_s_now() const { return valve_.in_use().stroke_s; }
+  Scalar half_flow_ratio() const { return valve_.in_use().half_flow_ratio; }
 
  private:
   Scalar jiffy_s_ = Scalar(0.01);

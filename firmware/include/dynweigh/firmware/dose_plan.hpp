@@ -1,0 +1,56 @@
+#pragma once
+// The model strategy's plan for a dose, from the accuracy asked for (`param class`, OIML R61 X(x))
+// and its own uncertainty about where a close now would end. The fastest plan that meets the class:
+//   full   full flow to the close, when twice the uncertainty fits in the class's warning limit;
+//   fine   full flow, then a half-open fine feed before the close (less in flight, re-measured),
+//          when that fits, the stream is measured and the fine feed is enabled (`model_fine_s` > 0:
+//          its length; a fine feed the plan chose by itself upset the valve supervision of the
+//          next doses on a slow valve, so it is not chosen unasked);
+//   topup  a deliberate undershoot: the close aims short by what does not fit, so that the fill
+//          ends below the target rather than over it, and top-up pulses finish it.
+// The uncertainty: a close before the stream is measured rests on the prior (off by up to 40 %:
+// a fifth of the fill, one sigma); a measured one on the flow's fluctuation seen in this dose and
+// the estimator's error, both over the material in flight at the close.
+#include <cstdint>
+
+namespace dynweigh::firmware {
+
+enum class DosePlan : std::uint8_t { full = 0, fine = 1, topup = 2 };
+const char* dose_plan_name(DosePlan plan);
+
+struct PlanChoice {
+  DosePlan plan = DosePlan::full;
+  float sigma_g = 0.0f;   // the uncertainty of a close now, one standard deviation
+  float limit_g = 0.0f;   // the class's warning limit (TL1) at the target
+  float margin_g = 0.0f;  // how far short of the target the close aims
+};
+
+class DosePlanner {
+ public:
+  static constexpr float kSigmas = 2.0f;
+  static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close, share of the fill
+  static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
+  static constexpr float kFluctuationWeight = 0.3f;   // of the rate's fluctuation, what the in-flight keeps
+
+  // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
+  // `fine_feed` whether the plan may choose a fine feed.
+  void configure(float class_x, float half_flow_ratio, bool fine_feed);
+  void start();
+  // Each jiffy the stream is measured: the landing rate, for its fluctuation.
+  void observe_rate(float rate_g_per_jiffy);
+  // The plan if the close came now: `predicted_g` the fill a close now would give, `in_flight_g`
+  // what is on its way (falling, and let through by the closing valve), `measuring` whether the
+  // stream has been measured.
+  PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring) const;
+  float fluctuation() const;  // the landing rate's relative standard deviation in this dose
+
+ private:
+  float class_x_ = 1.0f;
+  float half_flow_ratio_ = 0.5f;
+  bool fine_feed_ = false;
+  std::uint32_t rates_ = 0;
+  float mean_ = 0.0f;
+  float m2_ = 0.0f;
+};
+
+}  // namespace dynweigh::firmware

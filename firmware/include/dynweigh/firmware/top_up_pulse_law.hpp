@@ -1,0 +1,73 @@
+#pragma once
+// How long a top-up pulse opens the valve for the mass still missing. The valve reaches its
+// position `travel` after the dead time and closes at the same speed, so a pulse of T seconds lets
+// through about q T when it reaches the position (T >= travel) and q T^2 / travel when it does not
+// (a partial stroke); the dead time shifts the opening and the closing alike. The flow's start-up
+// and a valve slower than its datasheet take more off each pulse. The law is m = q e(T) - c, e(T)
+// the open time above, one law for full-open pulses and one for half-open ones. q starts from the
+// flow the dose measured, c from zero; the dose itself (one long full-open pulse) and each pulse's
+// measured mass refine them (recursive least squares), so each pulse is sized from what the last did.
+// A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
+// law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). Where the
+// jitter at full flow is a large part of the deficit (or the dose told nothing of the full flow),
+// the pulses open the valve half: less flow, a shorter travel, a finer pulse.
+#include <cstdint>
+
+#include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/two_parameter_rls.hpp"
+
+namespace dynweigh::firmware {
+
+class TopUpPulseLaw {
+ public:
+  struct Pulse {
+    ValveCommand command = ValveCommand::open;
+    float seconds = 0.0f;
+    float expected_g = 0.0f;
+  };
+  static constexpr float kFirstAim = 0.6f;    // share of the deficit, before any pulse was seen
+  static constexpr float kLaterAim = 0.85f;   // at most, once the law has seen one
+  static constexpr float kLeastAim = 0.5f;    // at least, however unsure the law
+  static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
+
+  // A dose's full-open flow (grams per second), the share of it half open lets through, the
+  // valve's stroke (closed to full open), and the longest pulse allowed.
+  void begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s);
+  // The dose as one long full-open pulse: `open_s` from the open command to the close,
+  // `delivered_g` certified. The full-open law's first observation.
+  void observe_dose(float open_s, float delivered_g);
+  // The pulse for `deficit_g` still missing; the first chooses full or half open for them all.
+  Pulse size(float deficit_g);
+  // What the pulse just given delivered, as the scale certified it.
+  void learn(const Pulse& pulse, float delivered_g);
+  // The law of full-open (`half` false) or half-open pulses.
+  float flow_g_s(bool half) const { return law(half).rls.state().theta1; }
+  float start_loss_g(bool half) const { return law(half).rls.state().theta2; }
+  std::uint8_t pulses_seen(bool half) const { return law(half).seen; }
+  float expected_g(bool half, float seconds) const;
+
+ private:
+  struct Law {
+    TwoParameterRls rls;
+    float prior_flow_g_s = 0.0f;
+    float travel_s = 0.0f;
+    std::uint8_t seen = 0;
+  };
+  const Law& law(bool half) const { return half ? half_ : full_; }
+  Law& law(bool half) { return half ? half_ : full_; }
+  void reset(Law& law, float flow_g_s, float travel_s);
+  void observe(Law& law, float seconds, float delivered_g);
+  static float open_seconds(const Law& law, float pulse_s);
+  float seconds_for(const Law& law, float mass_g) const;
+  static float spread_g(const Law& law, float seconds);
+  float aim_g(const Law& law, float deficit_g) const;
+  void choose(float deficit_g);
+
+  Law full_;
+  Law half_;
+  float max_pulse_s_ = 1.0f;
+  bool chosen_ = false;
+  bool half_open_ = false;
+};
+
+}  // namespace dynweigh::firmware

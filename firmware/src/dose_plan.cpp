@@ -1,0 +1,66 @@
+#include "dynweigh/firmware/dose_plan.hpp"
+
+#include <cmath>
+
+#include "dynweigh/model/oiml_r61_limits.hpp"
+
+namespace dynweigh::firmware {
+namespace {
+// The rate's first jiffies after the stream is measured still carry the start-up: a fluctuation
+// needs this many rates to be read at all.
+constexpr std::uint32_t kLeastRates = 5;
+}  // namespace
+
+const char* dose_plan_name(DosePlan plan) {
+  switch (plan) {
+    case DosePlan::full: return "full";
+    case DosePlan::fine: return "fine";
+    case DosePlan::topup: return "topup";
+  }
+  return "full";
+}
+
+void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed) {
+  fine_feed_ = fine_feed;
+  class_x_ = class_x > 0.0f ? class_x : 1.0f;
+  half_flow_ratio_ = half_flow_ratio > 0.0f && half_flow_ratio <= 1.0f ? half_flow_ratio : 0.5f;
+}
+
+void DosePlanner::start() {
+  rates_ = 0;
+  mean_ = 0.0f;
+  m2_ = 0.0f;
+}
+
+void DosePlanner::observe_rate(float rate_g_per_jiffy) {
+  if (!std::isfinite(rate_g_per_jiffy)) return;
+  ++rates_;
+  const float delta = rate_g_per_jiffy - mean_;
+  mean_ += delta / float(rates_);
+  m2_ += delta * (rate_g_per_jiffy - mean_);
+}
+
+float DosePlanner::fluctuation() const {
+  if (rates_ < kLeastRates || !(mean_ > 0.0f)) return 0.0f;
+  return std::sqrt(m2_ / float(rates_ - 1)) / mean_;
+}
+
+PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring) const {
+  PlanChoice c;
+  c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
+  const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
+  // The flow's fluctuation is partly averaged out over the flight (its correlation time is shorter).
+  const float measured_share = kFluctuationWeight * fluctuation() + kEstimatorShare;
+  c.sigma_g = measuring ? measured_share * in_flight : kBlindShare * (predicted_g > 0.0f ? predicted_g : 0.0f);
+  if (kSigmas * c.sigma_g <= c.limit_g) return c;
+  // Half open: less in flight by the flow's ratio, and the half-open stream measured again.
+  if (fine_feed_ && measuring && kSigmas * measured_share * in_flight * half_flow_ratio_ <= c.limit_g) {
+    c.plan = DosePlan::fine;
+    return c;
+  }
+  c.plan = DosePlan::topup;
+  c.margin_g = kSigmas * c.sigma_g - c.limit_g;
+  return c;
+}
+
+}  // namespace dynweigh::firmware

@@ -1,0 +1,128 @@
+#include "dynweigh/firmware/top_up_pulse_law.hpp"
+
+#include <cmath>
+
+namespace dynweigh::firmware {
+namespace {
+// A learned flow is held within these shares of its prior: a pulse whose mass was read badly must
+// not make the next one absurd.
+constexpr float kFlowLow = 0.25f;
+constexpr float kFlowHigh = 2.0f;
+// The prior: the flow within half of the measured one; the loss (the flow's start-up, a valve
+// slower than its datasheet) 30 +- 30 ms of flow, at most 200 ms.
+constexpr float kFlowSpread = 0.5f;
+constexpr float kLossPriorS = 0.03f;
+constexpr float kLossSpreadS = 0.03f;
+constexpr float kLossMaxS = 0.2f;
+constexpr float kPulseNoiseG = 1.0f;
+constexpr float kShortestPulseS = 0.001f;
+constexpr float kAimSigmas = 2.0f;
+// The loss builds up over the flow's start-up: a pulse open for less than this loses in proportion.
+constexpr float kLossBuildS = 0.1f;
+
+float loss_regressor(float open_s) { return open_s < kLossBuildS ? -open_s / kLossBuildS : -1.0f; }
+}  // namespace
+
+void TopUpPulseLaw::reset(Law& law, float flow_g_s, float travel_s) {
+  law.prior_flow_g_s = flow_g_s;
+  law.travel_s = travel_s;
+  law.seen = 0;
+  // One pulse's mass is uncertain by the valve's jitter at this flow, and read to about a gram.
+  const float jitter_g = kJitterS * flow_g_s;
+  law.rls.configure(1.0f, jitter_g > kPulseNoiseG ? jitter_g : kPulseNoiseG);
+  law.rls.reset(flow_g_s, kLossPriorS * flow_g_s, kFlowSpread * flow_g_s, kLossSpreadS * flow_g_s);
+}
+
+void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s) {
+  const float flow = full_flow_g_s > 0.0f ? full_flow_g_s : 0.0f;
+  const float ratio = half_flow_ratio > 0.0f && half_flow_ratio <= 1.0f ? half_flow_ratio : 0.5f;
+  const float stroke = stroke_s > 0.0f ? stroke_s : 0.0f;
+  max_pulse_s_ = max_pulse_s;
+  chosen_ = false;
+  reset(full_, flow, stroke);
+  reset(half_, flow * ratio, 0.5f * stroke);
+}
+
+float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) {
+  if (pulse_s >= law.travel_s || law.travel_s <= 0.0f) return pulse_s;
+  return pulse_s * pulse_s / law.travel_s;
+}
+
+void TopUpPulseLaw::observe(Law& law, float seconds, float delivered_g) {
+  const float open_s = open_seconds(law, seconds);
+  if (!law.rls.update(open_s, loss_regressor(open_s), delivered_g)) return;
+  TwoParameterRls::State s = law.rls.state();
+  const float q_low = kFlowLow * law.prior_flow_g_s, q_high = kFlowHigh * law.prior_flow_g_s;
+  s.theta1 = s.theta1 < q_low ? q_low : (s.theta1 > q_high ? q_high : s.theta1);
+  const float c_low = 0.0f, c_high = kLossMaxS * law.prior_flow_g_s;
+  s.theta2 = s.theta2 < c_low ? c_low : (s.theta2 > c_high ? c_high : s.theta2);
+  law.rls.restore(s);
+  if (law.seen < 255) ++law.seen;
+}
+
+void TopUpPulseLaw::observe_dose(float open_s, float delivered_g) {
+  if (open_s > 0.0f && delivered_g > 0.0f) observe(full_, open_s, delivered_g);
+  // What the dose taught of the flow carries to half open in proportion.
+  if (full_.prior_flow_g_s > 0.0f && half_.seen == 0) {
+    const float share = full_.rls.state().theta1 / full_.prior_flow_g_s;
+    reset(half_, half_.prior_flow_g_s * share, half_.travel_s);
+  }
+}
+
+void TopUpPulseLaw::learn(const Pulse& pulse, float delivered_g) {
+  observe(law(pulse.command == ValveCommand::half), pulse.seconds, delivered_g);
+}
+
+float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {
+  // Solve m = q e - c for the open time e; below the loss's build-up, m = (q - c / build) e.
+  const float q = law.rls.state().theta1, c = law.rls.state().theta2;
+  float open_s = q > 0.0f ? (mass_g + c) / q : 0.0f;
+  const float short_slope = q - c / kLossBuildS;
+  if (open_s < kLossBuildS && short_slope > 0.0f) open_s = mass_g / short_slope;
+  float seconds = open_s > 0.0f ? open_s : 0.0f;
+  if (seconds < law.travel_s && law.travel_s > 0.0f) seconds = std::sqrt(seconds * law.travel_s);
+  return seconds < kShortestPulseS ? kShortestPulseS : (seconds > max_pulse_s_ ? max_pulse_s_ : seconds);
+}
+
+// The law's standard deviation of a pulse's mass, and the valve's jitter at its flow.
+float TopUpPulseLaw::spread_g(const Law& law, float seconds) {
+  const TwoParameterRls::State& s = law.rls.state();
+  const float x1 = open_seconds(law, seconds), x2 = loss_regressor(x1);
+  const float variance = x1 * (s.p11 * x1 + s.p12 * x2) + x2 * (s.p12 * x1 + s.p22 * x2);
+  return (variance > 0.0f ? std::sqrt(variance) : 0.0f) + kJitterS * s.theta1;
+}
+
+float TopUpPulseLaw::aim_g(const Law& law, float deficit_g) const {
+  if (law.seen == 0) return kFirstAim * deficit_g;
+  const float most = kLaterAim * deficit_g;
+  const float sure = deficit_g - kAimSigmas * spread_g(law, seconds_for(law, most));
+  const float aim = sure < most ? sure : most;
+  return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
+}
+
+void TopUpPulseLaw::choose(float deficit_g) {
+  // Full open where its timing jitter is a small part of the deficit, and the dose told its flow.
+  const float jitter_g = kAimSigmas * kJitterS * full_.rls.state().theta1;
+  half_open_ = !(full_.seen > 0 && jitter_g < kLeastAim * deficit_g) && half_.prior_flow_g_s > 0.0f;
+  chosen_ = true;
+}
+
+TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g) {
+  const float deficit = deficit_g > 0.0f ? deficit_g : 0.0f;
+  if (!chosen_) choose(deficit);
+  const Law& chosen = law(half_open_);
+  Pulse pulse;
+  pulse.command = half_open_ ? ValveCommand::half : ValveCommand::open;
+  pulse.seconds = seconds_for(chosen, aim_g(chosen, deficit));
+  pulse.expected_g = expected_g(half_open_, pulse.seconds);
+  return pulse;
+}
+
+float TopUpPulseLaw::expected_g(bool half, float seconds) const {
+  const Law& l = law(half);
+  const float open_s = open_seconds(l, seconds);
+  const float m = l.rls.predict(open_s, loss_regressor(open_s));
+  return m > 0.0f ? m : 0.0f;
+}
+
+}  // namespace dynweigh::firmware
