@@ -91,7 +91,8 @@ class CuttableStore final : public hal::SettingsStore {
 TEST(FillLogbook, AResultsWriteCutAtAnyByteLosesOnlyThatRecord) {
   CuttableStore store;
   ConsoleSession c(sim::default_scene(), 1, std::nullopt, &store);
-  c.run({"param stable_ms 500"});  // settings in their slots beside the logbook
+  // settings in their slots beside the logbook; class 10: no top-up, so the result is the first write
+  c.run({"param stable_ms 500", "param class 10"});
   std::vector<std::string> kept = lines_starting(c.run({"dose 200", "dose 200"}), "RESULT ");
   ASSERT_EQ(kept.size(), 2u);
   for (std::size_t cut = 0; cut < firmware::kLogRecordSize; ++cut) {

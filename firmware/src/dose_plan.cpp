@@ -45,13 +45,14 @@ float DosePlanner::fluctuation() const {
   return std::sqrt(m2_ / float(rates_ - 1)) / mean_;
 }
 
-PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring) const {
+PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught) const {
   PlanChoice c;
   c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
   // The flow's fluctuation is partly averaged out over the flight (its correlation time is shorter).
   const float measured_share = kFluctuationWeight * fluctuation() + kEstimatorShare;
-  c.sigma_g = measuring ? measured_share * in_flight : kBlindShare * (predicted_g > 0.0f ? predicted_g : 0.0f);
+  const float blind_share = law_taught ? kLearnedBlindShare : kBlindShare;
+  c.sigma_g = measuring ? measured_share * in_flight : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;
   // Half open: less in flight by the flow's ratio, and the half-open stream measured again.
   if (fine_feed_ && measuring && kSigmas * measured_share * in_flight * half_flow_ratio_ <= c.limit_g) {

@@ -6,6 +6,8 @@
 
 namespace dynweigh::firmware {
 namespace {
+// Fills of the open-time law before a blind close planned on it counts as taught.
+constexpr std::uint16_t kLawFillsForPlan = 2;
 // Dynamic certification: the fit's standard error of W within 1.5 divisions, and five successive
 // estimates agreeing within half a division. The least-squares error is pessimistic here (its
 // regressors carry the noise too): the bench measures the certified result against the truth
@@ -138,7 +140,8 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
     plan_ = PlanChoice{};
     return 0.0f;
   }
-  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring());
+  const bool law_taught = model_.fill_law().learned().open_time_law.fills >= kLawFillsForPlan;
+  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught);
   return plan_.margin_g;
 }
 

@@ -5,6 +5,10 @@
 #include "console_commands.hpp"
 
 namespace dynweigh::firmware {
+namespace {
+// The share of the warning band (TL1) a model fill may end short of its target without a top-up.
+constexpr float kModelTopUpShare = 0.5f;
+}  // namespace
 
 void Indicator::conclude_dose() {
   concluding_ = dosing_.result();
@@ -29,11 +33,13 @@ void Indicator::start_top_up() {
 
 void Indicator::judge_result() {
   const Parameters& p = settings_.parameters;
-  verdict_ = judge_tolerance(float(concluding_.final_g - concluding_.target_g),
-                             tolerance_bands(float(concluding_.target_g), p));
-  // The model strategy finishes a fill short of its class's warning limit itself (its plan may
-  // have aimed short on purpose); tol_action judges what the top-ups left.
-  const bool short_of_class = verdict_ == ToleranceVerdict::warn_low || verdict_ == ToleranceVerdict::low;
+  const float error_g = float(concluding_.final_g - concluding_.target_g);
+  const ToleranceBands bands = tolerance_bands(float(concluding_.target_g), p);
+  verdict_ = judge_tolerance(error_g, bands);
+  // The model strategy finishes a fill short of its class itself (its plan may have aimed short on
+  // purpose), and not merely into the warning band: fills that all end just inside it would average
+  // short by most of the band. tol_action judges what the top-ups left.
+  const bool short_of_class = error_g < -kModelTopUpShare * bands.warn_low_g;
   const bool may_top_up = follow_up_.may_top_up() && !dosing_.reading_frozen();
   if (concluding_.strategy == DosingStrategy::model && short_of_class && may_top_up) {
     return start_top_up();

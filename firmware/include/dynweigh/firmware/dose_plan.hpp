@@ -28,7 +28,8 @@ struct PlanChoice {
 class DosePlanner {
  public:
   static constexpr float kSigmas = 2.0f;
-  static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close, share of the fill
+  static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close on the prior, share of the fill
+  static constexpr float kLearnedBlindShare = 0.01f;  // ... timed by an open-time law two fills taught
   static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
   static constexpr float kFluctuationWeight = 0.3f;   // of the rate's fluctuation, what the in-flight keeps
 
@@ -41,7 +42,8 @@ class DosePlanner {
   // The plan if the close came now: `predicted_g` the fill a close now would give, `in_flight_g`
   // what is on its way (falling, and let through by the closing valve), `measuring` whether the
   // stream has been measured.
-  PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring) const;
+  // `law_taught`: a blind close is timed by the open-time law this material's fills taught.
+  PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false) const;
   float fluctuation() const;  // the landing rate's relative standard deviation in this dose
 
  private:
