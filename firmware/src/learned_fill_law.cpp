@@ -5,7 +5,7 @@
 namespace dynweigh::firmware {
 namespace {
 // The prior's uncertainty: the flow within half itself (a density guessed up to 40 % off, the
-// Beverloo constants), the lag within 0.15 s (the valve's dead time, stroke and the flow's start-up);
+// Beverloo constants), the lag within 0.05 s (the valve's dead time, stroke and the flow's start-up);
 // one fill's scatter about the law, 10 ms of flow (the valve's jitter, the flow's fluctuation).
 constexpr float kFlowUncertainty = 0.7f;
 constexpr float kLagUncertaintyS = 0.05f;
