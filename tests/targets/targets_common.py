@@ -46,6 +46,24 @@ def plant_on_udp(dynweigh, scene, jiffies, wait_s=20):
     return sock, ("127.0.0.1", plant_port), plant
 
 
+def firmware_on_udp_plant(dynweigh, fw, scene, console_input, timeout, plant_options=()):
+    """dynweigh-fw's CAN node against `dynweigh plant` on udp, `console_input` typed on its stdio;
+    both outputs printed. Returns (the firmware's CompletedProcess, the plant's output, its exit)."""
+    plant_port, fw_port = free_udp_ports(2)
+    plant = subprocess.Popen([dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
+                              "--scene", scene, *plant_options, "--wait", "20", "--timeout", "20"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        firmware = subprocess.run([fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
+                                  input=console_input, capture_output=True, text=True, timeout=timeout)
+        plant_out, _ = plant.communicate(timeout=10)
+    finally:
+        stop(plant)
+    print("--- dynweigh-fw ---\n" + firmware.stdout + firmware.stderr)
+    print("--- dynweigh plant ---\n" + plant_out)
+    return firmware, plant_out, plant.returncode
+
+
 def key_values(text):
     return dict(re.findall(r"^([a-z][a-z0-9_]*)=(\S*)$", text, re.M))
 

@@ -5,31 +5,19 @@ ingredient valves, opened by the firmware's 0x221 and 0x222 and proven by their 
 feedback: each ingredient's RESULT is what the plant says that ingredient released. A material whose
 valve the plant has no module for (3) is refused before anything opens."""
 import argparse
-import subprocess
 
-from targets_common import fail, field, free_udp_ports, key_values, stop
+from targets_common import fail, field, firmware_on_udp_plant, key_values
 
 a = argparse.ArgumentParser()
 a.add_argument("--dynweigh", required=True)
 a.add_argument("--fw", required=True)
 args = a.parse_args()
 
-plant_port, fw_port = free_udp_ports(2)
-plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
-                          "--scene", "batching", "--wait", "20", "--timeout", "20"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-try:
-    fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
-                        input="status\nbatch 3:100\nbatch 0:2000 1:1500 2:1000\nstatus\n",
-                        capture_output=True, text=True, timeout=60)
-    plant_out, _ = plant.communicate(timeout=10)
-finally:
-    stop(plant)
-print("--- dynweigh-fw ---\n" + fw.stdout + fw.stderr)
-print("--- dynweigh plant ---\n" + plant_out)
+fw, plant_out, plant_exit = firmware_on_udp_plant(
+    args.dynweigh, args.fw, "batching", "status\nbatch 3:100\nbatch 0:2000 1:1500 2:1000\nstatus\n", 60)
 
-if fw.returncode != 0 or plant.returncode != 0:
-    fail(f"dynweigh-fw exited {fw.returncode}, dynweigh plant {plant.returncode}")
+if fw.returncode != 0 or plant_exit != 0:
+    fail(f"dynweigh-fw exited {fw.returncode}, dynweigh plant {plant_exit}")
 lines = fw.stdout.splitlines()
 if not any(l.startswith("ERR 2 no valve for that material") for l in lines):
     fail("batch 3:100 was not refused on a plant with ingredient valves 0..2")

@@ -4,30 +4,19 @@
 proves the gate by the 0x1A8 feedback it reads (open, then closed: `discharge` answers OK); the
 plant's truth says the hopper is empty again."""
 import argparse
-import subprocess
 
-from targets_common import fail, free_udp_ports, key_values, stop
+from targets_common import fail, firmware_on_udp_plant, key_values
 
 a = argparse.ArgumentParser()
 a.add_argument("--dynweigh", required=True)
 a.add_argument("--fw", required=True)
 args = a.parse_args()
 
-plant_port, fw_port = free_udp_ports(2)
-plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
-                          "--scene", "default", "--wait", "20", "--timeout", "20"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-try:
-    fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
-                        input="dose 2000\ndischarge\nstatus\n", capture_output=True, text=True, timeout=40)
-    plant_out, _ = plant.communicate(timeout=10)
-finally:
-    stop(plant)
-print("--- dynweigh-fw ---\n" + fw.stdout + fw.stderr)
-print("--- dynweigh plant ---\n" + plant_out)
+fw, plant_out, plant_exit = firmware_on_udp_plant(
+    args.dynweigh, args.fw, "default", "dose 2000\ndischarge\nstatus\n", 40)
 
-if fw.returncode != 0 or plant.returncode != 0:
-    fail(f"dynweigh-fw exited {fw.returncode}, dynweigh plant {plant.returncode}")
+if fw.returncode != 0 or plant_exit != 0:
+    fail(f"dynweigh-fw exited {fw.returncode}, dynweigh plant {plant_exit}")
 lines = fw.stdout.splitlines()
 results = [i for i, l in enumerate(lines) if l.startswith("RESULT ")]
 if len(results) != 1 or lines[results[0] + 1] != "OK":

@@ -2,10 +2,8 @@
 """dynweigh plant and dynweigh-fw as two processes over udp on loopback: `dose 5000` reaches its
 target, judged by the plant's truth (final_static_kg), not the firmware's claim."""
 import argparse
-import subprocess
-import sys
 
-from targets_common import fail, free_udp_ports, key_values, field, stop
+from targets_common import fail, field, firmware_on_udp_plant, key_values
 
 TOLERANCE_G = 100.0  # the class the in-process build reaches (tests/test_dose.cpp: worst 100 g)
 
@@ -15,23 +13,13 @@ a.add_argument("--fw", required=True)
 a.add_argument("--seed", default="1")
 args = a.parse_args()
 
-plant_port, fw_port = free_udp_ports(2)
-plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"udp:{plant_port}@127.0.0.1:{fw_port}",
-                          "--scene", "default", "--seed", args.seed, "--wait", "20", "--timeout", "20"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-try:
-    fw = subprocess.run([args.fw, "--plant", f"can:udp:{fw_port}@127.0.0.1:{plant_port}"],
-                        input="dose 5000\n", capture_output=True, text=True, timeout=40)
-    plant_out, _ = plant.communicate(timeout=10)
-finally:
-    stop(plant)
-print("--- dynweigh-fw ---\n" + fw.stdout + fw.stderr)
-print("--- dynweigh plant ---\n" + plant_out)
+fw, plant_out, plant_exit = firmware_on_udp_plant(
+    args.dynweigh, args.fw, "default", "dose 5000\n", 40, plant_options=("--seed", args.seed))
 
 if fw.returncode != 0:
     fail(f"dynweigh-fw exited {fw.returncode}")
-if plant.returncode != 0:
-    fail(f"dynweigh plant exited {plant.returncode}")
+if plant_exit != 0:
+    fail(f"dynweigh plant exited {plant_exit}")
 results = [l for l in fw.stdout.splitlines() if l.startswith("RESULT ")]
 if len(results) != 1 or fw.stdout.splitlines()[-1] != "OK":
     fail("expected one RESULT line then OK")
