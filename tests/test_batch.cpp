@@ -83,14 +83,6 @@ TEST(BatchCycle, RefusesAnEmptyOrTooLongRecipe) {
 
 sim::Scene batching_scene() { return *sim::scene_by_name("batching"); }
 
-std::vector<std::string> lines_starting(const std::string& out, const std::string& tag) {
-  std::vector<std::string> found;
-  for (const std::string& line : lines_of(out)) {
-    if (line.rfind(tag, 0) == 0) found.push_back(line);
-  }
-  return found;
-}
-
 double released_kg(ConsoleSession& s) {
   double kg = 0.0;
   for (const auto& ingredient : s.session().plant().truth().ingredients) kg += ingredient.released_kg;

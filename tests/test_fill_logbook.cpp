@@ -19,14 +19,6 @@
 namespace dynweigh::testing {
 namespace {
 
-std::vector<std::string> lines_starting(const std::string& output, const std::string& prefix) {
-  std::vector<std::string> found;
-  for (const std::string& line : lines_of(output)) {
-    if (line.rfind(prefix, 0) == 0) found.push_back(line);
-  }
-  return found;
-}
-
 
 TEST(FillLogbook, ResultsSurviveARestartWithTheSameNvmFile) {
   TempFile file{"dynweigh_logbook"};

@@ -81,6 +81,15 @@ inline std::vector<std::string> lines_of(const std::string& text) {
   return lines;
 }
 
+// The lines of `output` that begin with `prefix` ("RESULT ", "MATERIAL "), in order.
+inline std::vector<std::string> lines_starting(const std::string& output, const std::string& prefix) {
+  std::vector<std::string> found;
+  for (const std::string& line : lines_of(output)) {
+    if (line.rfind(prefix, 0) == 0) found.push_back(line);
+  }
+  return found;
+}
+
 // The value of `key=` in a key=value line, or empty.
 inline std::string field(const std::string& line, const std::string& key) {
   const auto at = line.find(key + "=");
