@@ -68,16 +68,24 @@ TEST(TopUp, AModelFillThatClosedShortIsToppedUpWithinX1) {
   }
 }
 
-// A blind close at 2 kg on the default scene aims short on purpose (plan topup): one pulse is all
-// topup_max 1 allows, and it is not enough.
+// A blind close at 2 kg on the default scene aims short on purpose (plan topup). With topup_max 0
+// the fill stays short; with topup_max 1 one pulse is all it gets, and being the last it aims at the
+// whole deficit: it ends nearer the target than the pulses' cautious first aim would leave it.
 TEST(TopUp, TopupMaxBoundsTheModelsOwnPulses) {
-  ConsoleSession c;
-  c.run({"param topup_max 1"});
-  const Dose d = dose(c, 2000.0);
+  ConsoleSession none;
+  none.run({"param topup_max 0"});
+  const Dose unfinished = dose(none, 2000.0);
+  ASSERT_FALSE(unfinished.result.empty());
+  EXPECT_EQ(field(unfinished.result, "plan"), "topup") << unfinished.result;
+  EXPECT_EQ(field(unfinished.result, "topups"), "0") << unfinished.result;
+  EXPECT_LT(unfinished.true_error_g, -x1_limit_g(2000.0)) << unfinished.result;
+  ConsoleSession one;
+  one.run({"param topup_max 1"});
+  const Dose d = dose(one, 2000.0);
   ASSERT_FALSE(d.result.empty());
-  EXPECT_EQ(field(d.result, "plan"), "topup") << d.result;
   EXPECT_EQ(field(d.result, "topups"), "1") << d.result;
-  EXPECT_LT(d.true_error_g, -x1_limit_g(2000.0)) << d.result;
+  const double first_aim_left_g = (1.0 - firmware::TopUpPulseLaw::kFirstAim) * -unfinished.true_error_g;
+  EXPECT_LT(std::fabs(d.true_error_g), first_aim_left_g) << d.result;
 }
 
 // A preact close 900 g early at 2 kg with `tol_action topup`, 20 pulses of 150 ms allowed (360 g
@@ -152,6 +160,18 @@ TEST(TopUpPulseLaw, LearnsFromEachPulseAndNeverOvershoots) {
   EXPECT_LT(last_miss, first_miss);
   EXPECT_LT(deficit, 0.1f * 400.0f);
   EXPECT_GT(deficit, 0.0f);
+}
+
+// The last pulse a dose may give aims at the whole deficit, the others short of it.
+TEST(TopUpPulseLaw, TheLastPulseAimsAtTheWholeDeficit) {
+  firmware::TopUpPulseLaw law;
+  law.begin(2000.0f, 0.5f, 0.08f, 2.0f);
+  law.observe_dose(1.0f, 1900.0f);
+  const firmware::TopUpPulseLaw::Pulse cautious = law.size(300.0f);
+  const firmware::TopUpPulseLaw::Pulse last = law.size(300.0f, true);
+  EXPECT_LT(cautious.expected_g, 0.9f * 300.0f);
+  EXPECT_NEAR(last.expected_g, 300.0f, 1.0f);
+  EXPECT_GT(last.seconds, cautious.seconds);
 }
 
 // The default scene at 10 kg: the model's close is measured and its uncertainty small. X(10) needs

@@ -198,14 +198,14 @@ void DosingCycle::keep_top_up_flow() {
   top_up_flow_g_s_ = flow_g_s > 0.0f ? flow_g_s : 0.0f;
 }
 
-void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s) {
+void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, bool last) {
   if (!topping_up_ && sizes_top_ups()) {
     top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_in_use_s_now(), kLongestSizedPulseS);
     if (dose_open_s_ > 0.0f) top_up_law_.observe_dose(dose_open_s_, float(result_.final_g));
   }
   topping_up_ = true;
   if (sizes_top_ups()) {
-    pulse_ = top_up_law_.size(deficit_g);
+    pulse_ = top_up_law_.size(deficit_g, last);
   } else {
     pulse_ = TopUpPulseLaw::Pulse{ValveCommand::open, fixed_pulse_s, 0.0f};
   }

@@ -28,7 +28,8 @@ void Indicator::conclude_top_up() {
 
 void Indicator::start_top_up() {
   follow_up_.start_top_up();
-  dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s());
+  dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s(),
+                       !follow_up_.may_top_up());
 }
 
 void Indicator::judge_result() {

@@ -92,7 +92,8 @@ float TopUpPulseLaw::spread_g(const Law& law, float seconds) {
   return (variance > 0.0f ? std::sqrt(variance) : 0.0f) + kJitterS * s.theta1;
 }
 
-float TopUpPulseLaw::aim_g(const Law& law, float deficit_g) const {
+float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, bool last) const {
+  if (last) return deficit_g;
   if (law.seen == 0) return kFirstAim * deficit_g;
   const float most = kLaterAim * deficit_g;
   const float sure = deficit_g - kAimSigmas * spread_g(law, seconds_for(law, most));
@@ -107,13 +108,13 @@ void TopUpPulseLaw::choose(float deficit_g) {
   chosen_ = true;
 }
 
-TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g) {
+TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g, bool last) {
   const float deficit = deficit_g > 0.0f ? deficit_g : 0.0f;
   if (!chosen_) choose(deficit);
   const Law& chosen = law(half_open_);
   Pulse pulse;
   pulse.command = half_open_ ? ValveCommand::half : ValveCommand::open;
-  pulse.seconds = seconds_for(chosen, aim_g(chosen, deficit));
+  pulse.seconds = seconds_for(chosen, aim_g(chosen, deficit, last));
   pulse.expected_g = expected_g(half_open_, pulse.seconds);
   return pulse;
 }

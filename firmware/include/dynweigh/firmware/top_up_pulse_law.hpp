@@ -8,7 +8,9 @@
 // flow the dose measured, c from zero; the dose itself (one long full-open pulse) and each pulse's
 // measured mass refine them (recursive least squares), so each pulse is sized from what the last did.
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
-// law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). Where the
+// law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
+// pulse a dose may give aims at the whole deficit: short of it, every such fill would end short by
+// what the aim held back, a bias no later pulse corrects. Where the
 // jitter at full flow is a large part of the deficit (or the dose told nothing of the full flow),
 // the pulses open the valve half: less flow, a shorter travel, a finer pulse.
 #include <cstdint>
@@ -37,7 +39,8 @@ class TopUpPulseLaw {
   // `delivered_g` certified. The full-open law's first observation.
   void observe_dose(float open_s, float delivered_g);
   // The pulse for `deficit_g` still missing; the first chooses full or half open for them all.
-  Pulse size(float deficit_g);
+  // `last`: the dose gives no pulse after this one.
+  Pulse size(float deficit_g, bool last = false);
   // What the pulse just given delivered, as the scale certified it.
   void learn(const Pulse& pulse, float delivered_g);
   // The law of full-open (`half` false) or half-open pulses.
@@ -60,7 +63,7 @@ class TopUpPulseLaw {
   static float open_seconds(const Law& law, float pulse_s);
   float seconds_for(const Law& law, float mass_g) const;
   static float spread_g(const Law& law, float seconds);
-  float aim_g(const Law& law, float deficit_g) const;
+  float aim_g(const Law& law, float deficit_g, bool last) const;
   void choose(float deficit_g);
 
   Law full_;
