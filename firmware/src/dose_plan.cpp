@@ -9,6 +9,8 @@ namespace {
 // The rate's first jiffies after the stream is measured still carry the start-up: a fluctuation
 // needs this many rates to be read at all.
 constexpr std::uint32_t kLeastRates = 5;
+constexpr float kAimedTopUpShare = 0.5f;
+constexpr float kUndershootTopUpShare = 0.3f;
 }  // namespace
 
 const char* dose_plan_name(DosePlan plan) {
@@ -18,6 +20,10 @@ const char* dose_plan_name(DosePlan plan) {
     case DosePlan::topup: return "topup";
   }
   return "full";
+}
+
+float model_top_up_shortfall_g(DosePlan plan, float warn_low_g) {
+  return (plan == DosePlan::topup ? kUndershootTopUpShare : kAimedTopUpShare) * warn_low_g;
 }
 
 void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed) {

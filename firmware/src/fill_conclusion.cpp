@@ -5,10 +5,6 @@
 #include "console_commands.hpp"
 
 namespace dynweigh::firmware {
-namespace {
-// The share of the warning band (TL1) a model fill may end short of its target without a top-up.
-constexpr float kModelTopUpShare = 0.5f;
-}  // namespace
 
 void Indicator::conclude_dose() {
   concluding_ = dosing_.result();
@@ -40,7 +36,7 @@ void Indicator::judge_result() {
   // The model strategy finishes a fill short of its class itself (its plan may have aimed short on
   // purpose), and not merely into the warning band: fills that all end just inside it would average
   // short by most of the band. tol_action judges what the top-ups left.
-  const bool short_of_class = error_g < -kModelTopUpShare * bands.warn_low_g;
+  const bool short_of_class = error_g < -model_top_up_shortfall_g(dosing_.plan().plan, bands.warn_low_g);
   const bool may_top_up = follow_up_.may_top_up() && !dosing_.reading_frozen();
   if (concluding_.strategy == DosingStrategy::model && short_of_class && may_top_up) {
     return start_top_up();

@@ -18,6 +18,12 @@ namespace dynweigh::firmware {
 enum class DosePlan : std::uint8_t { full = 0, fine = 1, topup = 2 };
 const char* dose_plan_name(DosePlan plan);
 
+// How far short of its target a model fill may end without topping up, given the class's warning
+// limit (TL1): after a close meant to hit the target, half of it (the fills' scatter averages out);
+// after a deliberate undershoot, 0.3 of it, below the quarter of the in-service limit (0.36 TL1)
+// R61 allows the fills' mean, since every such fill ends short.
+float model_top_up_shortfall_g(DosePlan plan, float warn_low_g);
+
 struct PlanChoice {
   DosePlan plan = DosePlan::full;
   float sigma_g = 0.0f;   // the uncertainty of a close now, one standard deviation
