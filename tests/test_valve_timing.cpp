@@ -101,5 +101,26 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
   EXPECT_LT(later_excess, 15.0);
 }
 
+// A fine feed too short for a slow valve to reach half before the close (a few hundredths of a
+// second of full flow): the close starts while the valve still travels from open towards half, and
+// arrives sooner than a full stroke would. That is no full stroke to learn the valve's closing time
+// from: a full close after it (preact's) is healthy, not stuck open.
+TEST(ValveTiming, ACloseOnTheWayToHalfTeachesNoFullStroke) {
+  for (ValveFeedbackKind kind : {ValveFeedbackKind::reports_moving, ValveFeedbackKind::end_positions_only}) {
+    for (const char* fine_s : {"0.02", "0.06"}) {
+      SCOPED_TRACE(std::string(kind_name(kind)) + " feedback, model_fine_s " + fine_s);
+      ValveRig rig(scene_with_valve(10.0, 300.0), kind);
+      rig.idle(60);
+      rig.run_command(std::string("param model_fine_s ") + fine_s);
+      for (const char* strategy : {"model", "model", "preact"}) {
+        const std::string answer = rig.run_command(std::string("dose 3000 ") + strategy);
+        ASSERT_NE(answer.find("RESULT"), std::string::npos) << strategy << ": " << answer;
+        rig.idle(100);
+        ASSERT_EQ(rig.indicator().fault(), Fault::none) << strategy;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynweigh::testing

@@ -11,15 +11,18 @@ void ValveTimingMonitor::forget() {
   for (int d = 0; d < 2; ++d) next_[d] = count_[d] = dead_next_[d] = dead_count_[d] = 0;
 }
 
-void ValveTimingMonitor::start_stroke(ValveCommand command, float command_delay_ms) {
+void ValveTimingMonitor::start_stroke(ValveCommand previous, ValveCommand command, float command_delay_ms) {
   // Only a full stroke from where the feedback last stood still: a half stroke, or a reversal
-  // half-way, takes less time and would teach a limit too tight.
+  // half-way, takes less time and would teach a limit too tight. After a half command the valve is
+  // at half or on its way there, whatever end position its feedback last showed (limit switches
+  // show none at half): a close or an open from there is no full stroke.
   tracking_ = false;
-  if (command == ValveCommand::open && end_position_ == ValvePosition::closed) {
+  const bool from_end_position = previous != ValveCommand::half;
+  if (from_end_position && command == ValveCommand::open && end_position_ == ValvePosition::closed) {
     from_ = ValvePosition::closed;
     to_ = ValvePosition::open;
     tracking_ = true;
-  } else if (command == ValveCommand::closed && end_position_ == ValvePosition::open) {
+  } else if (from_end_position && command == ValveCommand::closed && end_position_ == ValvePosition::open) {
     from_ = ValvePosition::open;
     to_ = ValvePosition::closed;
     tracking_ = true;
@@ -36,8 +39,9 @@ void ValveTimingMonitor::observe(ValveCommand command, float command_delay_ms, V
   if (position != ValvePosition::moving) rest_position_ = position;
   last_position_ = position;
   if (command != last_command_) {
+    const ValveCommand previous = last_command_;
     last_command_ = command;
-    start_stroke(command, command_delay_ms);
+    start_stroke(previous, command, command_delay_ms);
     start_dead_time(command);
   }
   if (is_end_position(position)) end_position_ = position;

@@ -57,7 +57,7 @@ class ValveTimingMonitor {
     float arrival_bound_ms;
     float arrival_mean_ms;
   };
-  void start_stroke(ValveCommand command, float command_delay_ms);
+  void start_stroke(ValveCommand previous, ValveCommand command, float command_delay_ms);
   void remember(Direction d);
   void start_dead_time(ValveCommand command);
   void time_dead(ValvePosition position);
