@@ -18,6 +18,9 @@ PersistentSettings calibrated_and_learned() {
   s.parameters.set(ParameterId::filter_hz, 5.0f);
   s.learning.learn(make_learning_key(5000.0f, 1.1f, 3.5f), 12.0f);
   s.learning.learn(make_learning_key(20000.0f, 0.9f, 3.5f), -30.0f);
+  TopUpPulseLearning pulses;
+  pulses.full = {{2400.0f, 60.0f, 40000.0f, -900.0f, 300.0f, 3}, 2500.0f, 0.08f, 3};
+  s.materials.keep_pulses(pulses);
   return s;
 }
 

@@ -195,25 +195,54 @@ TEST(MaterialLearningRecord, WhatNoFillCanTeachIsDropped) {
   EXPECT_TRUE(after_power_cut(settings).materials.at(0).learned.empty());
 }
 
-// The record of the firmware before the materials' learned fields (version 6): today's, with each
-// material entry cut to its name, density and class.
-std::vector<std::uint8_t> version6_record(const PersistentSettings& settings) {
+// The record of an older firmware: today's, with each material entry cut to what that version kept
+// (version 6: name, density and class; version 7: also what the model's fills learned).
+std::vector<std::uint8_t> older_record(const PersistentSettings& settings, int version) {
+  const std::size_t entry_bytes = version == 6 ? firmware::kMaterialEntryBytesV6 : firmware::kMaterialEntryBytesV7;
   std::vector<std::uint8_t> now(firmware::kSettingsRecordSize);
   firmware::encode_settings(settings, now.data(), now.size());
   const std::size_t table = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes;
   std::vector<std::uint8_t> old(now.begin(), now.begin() + std::ptrdiff_t(table + 4));
   for (std::size_t n = 0; n < firmware::MaterialTable::kMaterials; ++n) {
     const auto entry = now.begin() + std::ptrdiff_t(table + 4 + n * firmware::kMaterialEntryBytes);
-    old.insert(old.end(), entry, entry + std::ptrdiff_t(firmware::kMaterialEntryBytesV6));
+    old.insert(old.end(), entry, entry + std::ptrdiff_t(entry_bytes));
   }
-  EXPECT_EQ(old.size(), firmware::kSettingsRecordSizeV6);
+  EXPECT_EQ(old.size(), version == 6 ? firmware::kSettingsRecordSizeV6 : firmware::kSettingsRecordSizeV7);
   auto put = [](std::uint8_t* p, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
   };
-  old[4] = 6;
+  old[4] = std::uint8_t(version);
   put(old.data() + 8, std::uint32_t(old.size()));
   put(old.data() + 12, firmware::crc32(old.data() + 16, old.size() - 16) ^ firmware::crc32(old.data(), 12));
   return old;
+}
+
+firmware::TopUpPulseLearning some_pulses() {
+  firmware::TopUpPulseLearning pulses;
+  pulses.full = {{2300.0f, 55.0f, 40000.0f, -900.0f, 300.0f, 4}, 2500.0f, 0.08f, 4};
+  pulses.half = {{900.0f, 20.0f, 9000.0f, -200.0f, 80.0f, 2}, 1000.0f, 0.04f, 2};
+  return pulses;
+}
+
+// What the top-up pulses taught is kept per material and survives a power cut; a version-7 record
+// (before it was kept) loads with the fills' lessons and no pulses'.
+TEST(MaterialLearningRecord, ThePulsesLessonsSurviveAPowerCutAndAVersionSevenRecordHasNone) {
+  PersistentSettings settings;
+  settings.materials.keep_learned(some_learning());
+  settings.materials.keep_pulses(some_pulses());
+  const firmware::TopUpPulseLearning kept = after_power_cut(settings).materials.at(0).pulses;
+  EXPECT_FLOAT_EQ(kept.full.law.theta1, 2300.0f);
+  EXPECT_FLOAT_EQ(kept.full.law.theta2, 55.0f);
+  EXPECT_FLOAT_EQ(kept.full.law.p12, -900.0f);
+  EXPECT_FLOAT_EQ(kept.half.travel_s, 0.04f);
+  EXPECT_EQ(kept.half.pulses, 2u);
+  const std::vector<std::uint8_t> old = older_record(settings, 7);
+  PersistentSettings loaded;
+  ASSERT_TRUE(firmware::decode_settings(old.data(), old.size(), loaded));
+  EXPECT_EQ(loaded.materials.at(0).learned.open_time_law.fills, some_learning().open_time_law.fills);
+  EXPECT_TRUE(loaded.materials.at(0).pulses.empty());
+  settings.materials.forget_learned();
+  EXPECT_TRUE(settings.materials.at(0).pulses.empty());
 }
 
 TEST(MaterialLearningRecord, AVersionSixRecordLoadsWithNothingLearned) {
@@ -221,7 +250,7 @@ TEST(MaterialLearningRecord, AVersionSixRecordLoadsWithNothingLearned) {
   settings.materials.rename(2, "barley");
   settings.materials.set_density(2, 640.0f);
   settings.materials.keep_learned(some_learning());
-  const std::vector<std::uint8_t> old = version6_record(settings);
+  const std::vector<std::uint8_t> old = older_record(settings, 6);
   PersistentSettings loaded;
   ASSERT_TRUE(firmware::decode_settings(old.data(), old.size(), loaded));
   EXPECT_STREQ(loaded.materials.at(2).name, "barley");
@@ -240,56 +269,64 @@ std::vector<std::uint8_t> file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A version-6 --nvm file (its settings slots smaller than today's, the logbook and the totalizers
-// right behind them): grown on start, its logbook and totalizers moved behind today's slots, its
-// settings read with nothing learned.
-TEST(MaterialLearningRecord, AVersion6NvmFileKeepsItsSettingsLogbookAndTotals) {
-  PersistentSettings settings;
-  settings.materials.rename(1, "barley");
-  firmware::MaterialTotals totals;
-  totals.material[1].fills = 7;
-  TempFile today{"dynweigh_learning"};
-  {
-    ASSERT_EQ(hal::host::prepare_nvm_file(today.path(), false), hal::host::NvmFile::created);
-    hal::host::FileSettingsStore store(today.path());
-    for (std::uint32_t seq = 1; seq <= 3; ++seq) {
-      firmware::LogRecord r;
-      r.target_dg = 3000;
-      r.final_dg = 3000 + 10 * std::int32_t(seq);
-      ASSERT_TRUE(store.logbook()->append(r));
+// A version-6 or version-7 --nvm file (its settings slots smaller than today's, the logbook and the
+// totalizers right behind them): grown on start, its logbook and totalizers moved behind today's
+// slots, its settings read with what that version did not keep empty.
+TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
+  for (int version : {6, 7}) {
+    SCOPED_TRACE("version " + std::to_string(version));
+    PersistentSettings settings;
+    settings.materials.rename(1, "barley");
+    settings.materials.select(1, settings.parameters);
+    settings.materials.keep_learned(some_learning());
+    settings.materials.keep_pulses(some_pulses());
+    firmware::MaterialTotals totals;
+    totals.material[1].fills = 7;
+    TempFile today{"dynweigh_learning"};
+    {
+      ASSERT_EQ(hal::host::prepare_nvm_file(today.path(), false), hal::host::NvmFile::created);
+      hal::host::FileSettingsStore store(today.path());
+      for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+        firmware::LogRecord r;
+        r.target_dg = 3000;
+        r.final_dg = 3000 + 10 * std::int32_t(seq);
+        ASSERT_TRUE(store.logbook()->append(r));
+      }
+      ASSERT_TRUE(store.totalizers()->save(totals));
     }
-    ASSERT_TRUE(store.totalizers()->save(totals));
-  }
-  const std::vector<std::uint8_t> now = file_bytes(today.path());
-  ASSERT_EQ(now.size(), hal::host::kNvmFileBytes);
-  // Slot 0 holds the version-6 record; slot 1 is erased; then today's logbook and totalizers.
-  std::vector<std::uint8_t> old(hal::host::kVersion6SettingsBytes, 0xFF);
-  const std::vector<std::uint8_t> record = version6_record(settings);
-  std::uint8_t* slot = old.data();
-  put_u32(slot, 0x4C535744);  // "DWSL"
-  put_u32(slot + 4, 5);
-  put_u32(slot + 8, std::uint32_t(record.size()));
-  std::copy(record.begin(), record.end(), slot + firmware::kSlotHeaderSize);
-  put_u32(slot + 12, firmware::crc32(slot + 4, 8) ^ firmware::crc32(record.data(), record.size()));
-  old.insert(old.end(), now.begin() + std::ptrdiff_t(hal::host::kFileLogbookOffset), now.end());
-  ASSERT_EQ(old.size(), hal::host::kVersion6FileBytes);
-  TempFile file{"dynweigh_learning"};
-  std::ofstream(file.path(), std::ios::binary).write(reinterpret_cast<const char*>(old.data()), std::streamsize(old.size()));
+    const std::vector<std::uint8_t> now = file_bytes(today.path());
+    ASSERT_EQ(now.size(), hal::host::kNvmFileBytes);
+    // Slot 0 holds the older record; slot 1 is erased; then today's logbook and totalizers.
+    const std::size_t settings_bytes = version == 6 ? hal::host::kVersion6SettingsBytes : hal::host::kVersion7SettingsBytes;
+    std::vector<std::uint8_t> old(settings_bytes, 0xFF);
+    const std::vector<std::uint8_t> record = older_record(settings, version);
+    std::uint8_t* slot = old.data();
+    put_u32(slot, 0x4C535744);  // "DWSL"
+    put_u32(slot + 4, 5);
+    put_u32(slot + 8, std::uint32_t(record.size()));
+    std::copy(record.begin(), record.end(), slot + firmware::kSlotHeaderSize);
+    put_u32(slot + 12, firmware::crc32(slot + 4, 8) ^ firmware::crc32(record.data(), record.size()));
+    old.insert(old.end(), now.begin() + std::ptrdiff_t(hal::host::kFileLogbookOffset), now.end());
+    ASSERT_EQ(old.size(), version == 6 ? hal::host::kVersion6FileBytes : hal::host::kVersion7FileBytes);
+    TempFile file{"dynweigh_learning"};
+    std::ofstream(file.path(), std::ios::binary).write(reinterpret_cast<const char*>(old.data()), std::streamsize(old.size()));
 
-  EXPECT_EQ(hal::host::prepare_nvm_file(file.path(), false), hal::host::NvmFile::sized);
-  EXPECT_EQ(file_bytes(file.path()).size(), hal::host::kNvmFileBytes);
-  hal::host::FileSettingsStore store(file.path());
-  PersistentSettings loaded;
-  ASSERT_TRUE(store.load(loaded));
-  EXPECT_STREQ(loaded.materials.at(1).name, "barley");
-  EXPECT_TRUE(loaded.materials.at(1).learned.empty());
-  ASSERT_EQ(store.logbook()->last_sequence(), 3u);
-  firmware::LogRecord r;
-  ASSERT_TRUE(store.logbook()->read(3, r));
-  EXPECT_EQ(r.final_dg, 3030);
-  firmware::MaterialTotals kept;
-  ASSERT_TRUE(store.totalizers()->load(kept));
-  EXPECT_EQ(kept.material[1].fills, 7u);
+    EXPECT_EQ(hal::host::prepare_nvm_file(file.path(), false), hal::host::NvmFile::sized);
+    EXPECT_EQ(file_bytes(file.path()).size(), hal::host::kNvmFileBytes);
+    hal::host::FileSettingsStore store(file.path());
+    PersistentSettings loaded;
+    ASSERT_TRUE(store.load(loaded));
+    EXPECT_STREQ(loaded.materials.at(1).name, "barley");
+    EXPECT_EQ(loaded.materials.at(1).learned.empty(), version == 6);
+    EXPECT_TRUE(loaded.materials.at(1).pulses.empty());
+    ASSERT_EQ(store.logbook()->last_sequence(), 3u);
+    firmware::LogRecord r;
+    ASSERT_TRUE(store.logbook()->read(3, r));
+    EXPECT_EQ(r.final_dg, 3030);
+    firmware::MaterialTotals kept;
+    ASSERT_TRUE(store.totalizers()->load(kept));
+    EXPECT_EQ(kept.material[1].fills, 7u);
+  }
 }
 
 }  // namespace

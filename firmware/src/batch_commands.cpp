@@ -63,7 +63,8 @@ void Indicator::start_batch_ingredient() {
   select_material(ingredient.material);
   use_valve(ingredient.material);
   dosing_.restore_baselines(settings_.baselines);
-  dosing_.restore_material(settings_.materials.at(ingredient.material).learned);
+  dosing_.restore_material(settings_.materials.at(ingredient.material).learned,
+                           settings_.materials.at(ingredient.material).pulses);
   dosing_.start(ingredient.grams, batch_strategy_, &settings_.learning);
   dose_command_pending_ = true;
   recorder_.start();

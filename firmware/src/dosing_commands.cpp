@@ -26,7 +26,7 @@ void ConsoleCommands::dose(Indicator& indicator, const Arguments& args) {
   }
   indicator.dosing_.restore_baselines(indicator.settings_.baselines);
   const MaterialTable& materials = indicator.settings_.materials;
-  indicator.dosing_.restore_material(materials.at(materials.selected()).learned);
+  indicator.dosing_.restore_material(materials.at(materials.selected()).learned, materials.at(materials.selected()).pulses);
   indicator.dosing_.start(std::int32_t(target), strategy, &indicator.settings_.learning);
   indicator.dose_command_pending_ = true;
   indicator.recorder_.start();

@@ -17,9 +17,20 @@ void Indicator::conclude_dose() {
 void Indicator::conclude_top_up() {
   const float delivered_g = float(dosing_.result().final_g - concluding_.final_g);
   if (!dosing_.learn_top_up(delivered_g)) follow_up_.stop_topping_up();
+  keep_top_up_learning();
   concluding_ = dosing_.result();
   follow_up_.finish();
   judge_result();
+}
+
+// What a sized pulse taught stays with the material, for the next dose's pulses (a baseline's fixed
+// pulses teach nothing: no save, no wear on the memory).
+void Indicator::keep_top_up_learning() {
+  if (!dosing_.sizes_top_ups()) return;
+  const TopUpPulseLearning pulses = dosing_.top_up_learning();
+  if (pulses.empty()) return;
+  settings_.materials.keep_pulses(pulses);
+  settings_changed_ = true;
 }
 
 void Indicator::start_top_up() {

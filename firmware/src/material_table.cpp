@@ -80,7 +80,10 @@ void MaterialTable::select(std::size_t n, Parameters& parameters) {
 }
 
 void MaterialTable::forget_learned() {
-  for (Material& m : materials_) m.learned = MaterialLearning{};
+  for (Material& m : materials_) {
+    m.learned = MaterialLearning{};
+    m.pulses = TopUpPulseLearning{};
+  }
 }
 
 void MaterialTable::follow_parameter(ParameterId id, const Parameters& parameters) {

@@ -11,8 +11,9 @@ namespace {
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
 // 5: the tolerance parameters; 6: the discharge parameters and the material table; 7: what the model
-// strategy's fills of each material measured
-constexpr std::uint16_t kVersion = 7;
+// strategy's fills of each material measured; 8: what each material's top-up pulses taught
+constexpr std::uint16_t kVersion = 8;
+constexpr std::uint16_t kVersionBeforePulses = 7;
 constexpr std::uint16_t kVersionBeforeMaterialLearning = 6;
 constexpr std::uint16_t kVersionBeforeMaterials = 5;
 constexpr std::uint16_t kVersionBeforeTolerance = 4;
@@ -102,6 +103,23 @@ MaterialLearning get_material_learning(const std::uint8_t* p) {
   return learned;
 }
 
+void put_pulse_law(std::uint8_t* p, const PulseLawLearning& law) {
+  put_rls(p, law.law);
+  put_f32(p + kRlsStateBytes, law.prior_flow_g_s);
+  put_f32(p + kRlsStateBytes + 4, law.travel_s);
+  p[kRlsStateBytes + 8] = law.pulses;
+}
+
+// Checked where it is used (TopUpPulseLaw::restore): a law that is not sane is not taken.
+PulseLawLearning get_pulse_law(const std::uint8_t* p) {
+  PulseLawLearning law;
+  law.law = get_rls(p);
+  law.prior_flow_g_s = get_f32(p + kRlsStateBytes);
+  law.travel_s = get_f32(p + kRlsStateBytes + 4);
+  law.pulses = p[kRlsStateBytes + 8];
+  return law;
+}
+
 void put_materials(std::uint8_t* p, const MaterialTable& table) {
   p[0] = std::uint8_t(table.selected());
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
@@ -112,15 +130,19 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     put_f32(e + 4 + Material::kNameBytes, m.density);
     put_f32(e + 8 + Material::kNameBytes, m.class_x);
     put_material_learning(e + kMaterialEntryBytesV6, m.learned);
+    put_pulse_law(e + kMaterialEntryBytesV7, m.pulses.full);
+    put_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes, m.pulses.half);
   }
 }
 
 // An entry no console command can produce (a name not NUL-ended or not a name, a density or class
 // out of range) is dropped: the material is undefined, and a selection of it falls back to 0.
-// A version-6 table has no learned fields: every material starts with nothing learned.
-MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, bool with_learning) {
+// A version-6 table has no learned fields: every material starts with nothing learned; a version-7
+// one no top-up pulses' lessons.
+MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, MaterialsInRecord materials) {
   MaterialTable table(parameters);
-  const std::size_t entry_bytes = with_learning ? kMaterialEntryBytes : kMaterialEntryBytesV6;
+  const std::size_t entry_bytes = material_entry_bytes(materials);
+  const bool with_learning = materials == MaterialsInRecord::learned || materials == MaterialsInRecord::pulses;
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
     const std::uint8_t* e = p + 4 + entry_bytes * n;
     if (e[0] != 1) continue;
@@ -130,6 +152,10 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
     m.density = get_f32(e + 4 + Material::kNameBytes);
     m.class_x = get_f32(e + 8 + Material::kNameBytes);
     if (with_learning) m.learned = get_material_learning(e + kMaterialEntryBytesV6);
+    if (materials == MaterialsInRecord::pulses) {
+      m.pulses.full = get_pulse_law(e + kMaterialEntryBytesV7);
+      m.pulses.half = get_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes);
+    }
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;
@@ -192,12 +218,14 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
-  const std::size_t parameter_count = version == kVersion || version == kVersionBeforeMaterialLearning
+  const std::size_t parameter_count = version == kVersion || version == kVersionBeforePulses ||
+                                              version == kVersionBeforeMaterialLearning
                                           ? kParameterCount
                                       : version == kVersionBeforeMaterials ? kParametersV5
                                       : version == kVersionBeforeTolerance ? kParametersV4
                                                                            : 0;
-  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::learned
+  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::pulses
+                                      : version == kVersionBeforePulses           ? MaterialsInRecord::learned
                                       : version == kVersionBeforeMaterialLearning ? MaterialsInRecord::table
                                                                                   : MaterialsInRecord::none;
   const std::size_t record_size = settings_record_size(parameter_count, materials);
@@ -240,8 +268,7 @@ bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSet
   decoded.baselines = get_baselines(baselines);
   // Before the table: material 0, selected, is the one the parameters describe.
   decoded.materials = materials != MaterialsInRecord::none
-                          ? get_materials(baselines + kBaselineLearningBytes, decoded.parameters,
-                                          materials == MaterialsInRecord::learned)
+                          ? get_materials(baselines + kBaselineLearningBytes, decoded.parameters, materials)
                           : MaterialTable(decoded.parameters);
   settings = decoded;
   return true;

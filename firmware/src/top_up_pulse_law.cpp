@@ -17,6 +17,10 @@ constexpr float kLossMaxS = 0.2f;
 constexpr float kPulseNoiseG = 1.0f;
 constexpr float kShortestPulseS = 0.001f;
 constexpr float kAimSigmas = 2.0f;
+// A pulse's lesson weighs as much as the last ten's: the law follows the silo's level and the valve.
+constexpr float kForgetting = 0.9f;
+// No valve takes 10 s to travel: a stored law that says so is no law.
+constexpr float kLongestTravelS = 10.0f;
 // The loss builds up over the flow's start-up: a pulse open for less than this loses in proportion.
 constexpr float kLossBuildS = 0.1f;
 
@@ -29,7 +33,7 @@ void TopUpPulseLaw::reset(Law& law, float flow_g_s, float travel_s) {
   law.seen = 0;
   // One pulse's mass is uncertain by the valve's jitter at this flow, and read to about a gram.
   const float jitter_g = kJitterS * flow_g_s;
-  law.rls.configure(1.0f, jitter_g > kPulseNoiseG ? jitter_g : kPulseNoiseG);
+  law.rls.configure(kForgetting, jitter_g > kPulseNoiseG ? jitter_g : kPulseNoiseG);
   law.rls.reset(flow_g_s, kLossPriorS * flow_g_s, kFlowSpread * flow_g_s, kLossSpreadS * flow_g_s);
 }
 
@@ -39,8 +43,8 @@ void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stro
   const float stroke = stroke_s > 0.0f ? stroke_s : 0.0f;
   max_pulse_s_ = max_pulse_s;
   chosen_ = false;
-  reset(full_, flow, stroke);
-  reset(half_, flow * ratio, 0.5f * stroke);
+  if (full_.pulses == 0) reset(full_, flow, stroke);
+  if (half_.pulses == 0) reset(half_, flow * ratio, 0.5f * stroke);
 }
 
 float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) {
@@ -60,7 +64,39 @@ void TopUpPulseLaw::observe(Law& law, float seconds, float delivered_g) {
   if (law.seen < 255) ++law.seen;
 }
 
+bool TopUpPulseLaw::restore(Law& law, const PulseLawLearning& learned) {
+  const TwoParameterRls::State& l = learned.law;
+  const bool sane = learned.pulses > 0 && learned.prior_flow_g_s > 0.0f && std::isfinite(learned.prior_flow_g_s) &&
+                    learned.travel_s >= 0.0f && learned.travel_s < kLongestTravelS &&
+                    l.theta1 >= kFlowLow * learned.prior_flow_g_s && l.theta1 <= kFlowHigh * learned.prior_flow_g_s &&
+                    l.theta2 >= 0.0f && l.theta2 <= kLossMaxS * learned.prior_flow_g_s;
+  if (!sane) return false;
+  reset(law, learned.prior_flow_g_s, learned.travel_s);
+  if (!law.rls.restore(l)) return false;
+  law.seen = law.pulses = learned.pulses;
+  return true;
+}
+
+// Each law on its own: one that no pulse taught (or not sanely) starts from the next dose's flow.
+void TopUpPulseLaw::restore(const TopUpPulseLearning& learned) {
+  if (!restore(full_, learned.full)) full_ = Law{};
+  if (!restore(half_, learned.half)) half_ = Law{};
+}
+
+PulseLawLearning TopUpPulseLaw::learned(const Law& law) {
+  PulseLawLearning l;
+  if (law.pulses == 0) return l;
+  l.law = law.rls.state();
+  l.prior_flow_g_s = law.prior_flow_g_s;
+  l.travel_s = law.travel_s;
+  l.pulses = law.pulses;
+  return l;
+}
+
+TopUpPulseLearning TopUpPulseLaw::learned() const { return {learned(full_), learned(half_)}; }
+
 void TopUpPulseLaw::observe_dose(float open_s, float delivered_g) {
+  if (full_.pulses > 0) return;
   if (open_s > 0.0f && delivered_g > 0.0f) observe(full_, open_s, delivered_g);
   // What the dose taught of the flow carries to half open in proportion.
   if (full_.prior_flow_g_s > 0.0f && half_.seen == 0) {
@@ -70,7 +106,9 @@ void TopUpPulseLaw::observe_dose(float open_s, float delivered_g) {
 }
 
 void TopUpPulseLaw::learn(const Pulse& pulse, float delivered_g) {
-  observe(law(pulse.command == ValveCommand::half), pulse.seconds, delivered_g);
+  Law& l = law(pulse.command == ValveCommand::half);
+  observe(l, pulse.seconds, delivered_g);
+  if (l.pulses < 255) ++l.pulses;
 }
 
 float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {

@@ -95,7 +95,12 @@ class DosingCycle {
   const LearningKey& learning_key() const { return learning_key_; }
   // What the model's earlier fills of the material about to be dosed taught: restored before a
   // dose; after a certified model or learn result, what it adds (the material's to keep).
-  void restore_material(const MaterialLearning& learned) { model_.restore(learned); }
+  // Before each dose: what the material's fills and its top-up pulses taught.
+  void restore_material(const MaterialLearning& learned, const TopUpPulseLearning& pulses) {
+    model_.restore(learned);
+    top_up_law_.restore(pulses);
+  }
+  TopUpPulseLearning top_up_learning() const { return top_up_law_.learned(); }
   const LearnedFillLaw& model_fill_law() const { return model_.fill_law(); }
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }

@@ -130,6 +130,7 @@ class Indicator {
   void conclude_dose();
   void conclude_top_up();
   void start_top_up();
+  void keep_top_up_learning();
   void judge_result();
   void report_result();
   void report_hold();

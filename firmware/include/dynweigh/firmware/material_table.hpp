@@ -10,6 +10,7 @@
 
 #include "dynweigh/firmware/material_learning.hpp"
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/firmware/top_up_pulse_learning.hpp"
 
 namespace dynweigh::firmware {
 
@@ -20,6 +21,7 @@ struct Material {
   float density = 0.0f;  // kg/m^3, the `density` parameter's range
   float class_x = 0.0f;  // X(x), the `class` parameter's range
   MaterialLearning learned{};
+  TopUpPulseLearning pulses{};  // what its top-up pulses taught
 };
 
 class MaterialTable {
@@ -50,6 +52,8 @@ class MaterialTable {
 
   // What the selected material's last certified model or learn fill left learned.
   void keep_learned(const MaterialLearning& learned) { materials_[selected_].learned = learned; }
+  // What the selected material's top-up pulses taught.
+  void keep_pulses(const TopUpPulseLearning& pulses) { materials_[selected_].pulses = pulses; }
   // `learn reset`: every material's fills are forgotten.
   void forget_learned();
 

@@ -7,6 +7,10 @@
 // the open time above, one law for full-open pulses and one for half-open ones. q starts from the
 // flow the dose measured, c from zero; the dose itself (one long full-open pulse) and each pulse's
 // measured mass refine them (recursive least squares), so each pulse is sized from what the last did.
+// What pulses taught is this valve's and this material's answer to a short opening, whatever the
+// target: it is kept with the material (top_up_pulse_learning.hpp) and the next dose's pulses start
+// from it instead of from the dose, whose long opening's start-up loss is no short pulse's. A
+// pulse's mass weighs as much as the last ten's (forgetting), so the law follows a silo running low.
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit: short of it, every such fill would end short by
@@ -16,6 +20,7 @@
 #include <cstdint>
 
 #include "dynweigh/firmware/io.hpp"
+#include "dynweigh/firmware/top_up_pulse_learning.hpp"
 #include "dynweigh/firmware/two_parameter_rls.hpp"
 
 namespace dynweigh::firmware {
@@ -33,11 +38,15 @@ class TopUpPulseLaw {
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
 
   // A dose's full-open flow (grams per second), the share of it half open lets through, the
-  // valve's stroke (closed to full open), and the longest pulse allowed.
+  // valve's stroke (closed to full open), and the longest pulse allowed. A law pulses taught (in this
+  // dose, or earlier ones: restore()) is kept.
   void begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s);
   // The dose as one long full-open pulse: `open_s` from the open command to the close,
-  // `delivered_g` certified. The full-open law's first observation.
+  // `delivered_g` certified. The full-open law's first observation, unless pulses taught it.
   void observe_dose(float open_s, float delivered_g);
+  // Before a dose: what this material's pulses taught (nothing: the next begin starts afresh).
+  void restore(const TopUpPulseLearning& learned);
+  TopUpPulseLearning learned() const;
   // The pulse for `deficit_g` still missing; the first chooses full or half open for them all.
   // `last`: the dose gives no pulse after this one.
   Pulse size(float deficit_g, bool last = false);
@@ -55,10 +64,13 @@ class TopUpPulseLaw {
     float prior_flow_g_s = 0.0f;
     float travel_s = 0.0f;
     std::uint8_t seen = 0;
+    std::uint8_t pulses = 0;  // of `seen`, the pulses (not the dose)
   };
   const Law& law(bool half) const { return half ? half_ : full_; }
   Law& law(bool half) { return half ? half_ : full_; }
-  void reset(Law& law, float flow_g_s, float travel_s);
+  static void reset(Law& law, float flow_g_s, float travel_s);
+  static bool restore(Law& law, const PulseLawLearning& learned);
+  static PulseLawLearning learned(const Law& law);
   void observe(Law& law, float seconds, float delivered_g);
   static float open_seconds(const Law& law, float pulse_s);
   float seconds_for(const Law& law, float mass_g) const;
