@@ -14,8 +14,8 @@ void ValveTimingMonitor::forget() {
 void ValveTimingMonitor::start_stroke(ValveCommand previous, ValveCommand command, float command_delay_ms) {
   // Only a full stroke from where the feedback last stood still: a half stroke, or a reversal
   // half-way, takes less time and would teach a limit too tight. After a half command the valve is
-  // at half or on its way there, whatever end position its feedback last showed (limit switches
-  // show none at half): a close or an open from there is no full stroke.
+  // at half or on its way there, whatever end position its feedback last showed (a module
+  // with limit switches alone may show none at half): a close or an open from there is no full stroke.
   tracking_ = false;
   const bool from_end_position = previous != ValveCommand::half;
   if (from_end_position && command == ValveCommand::open && end_position_ == ValvePosition::closed) {

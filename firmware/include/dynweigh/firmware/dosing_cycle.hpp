@@ -93,9 +93,9 @@ class DosingCycle {
   const FlowPreactCutoff& flow_preact() const { return flow_preact_; }
   // The kind of fill the learn strategy closed: where its residual belongs.
   const LearningKey& learning_key() const { return learning_key_; }
-  // What the model's earlier fills of the material about to be dosed taught: restored before a
-  // dose; after a certified model or learn result, what it adds (the material's to keep).
-  // Before each dose: what the material's fills and its top-up pulses taught.
+  // What the model's earlier fills and top-up pulses of the material about to be dosed taught:
+  // restored before a dose; after a certified model or learn result or a sized pulse, what it adds
+  // (the material's to keep).
   void restore_material(const MaterialLearning& learned, const TopUpPulseLearning& pulses) {
     model_.restore(learned);
     top_up_law_.restore(pulses);
