@@ -61,24 +61,28 @@ TEST(ValveTiming, HealthyValvesRaiseNothingAndAStuckOneIsCaughtWithin100msOfItsS
 // The project's plant with a 50 ms / 150 ms valve, the indicator at the datasheet's 30 ms / 80 ms:
 // the first fill overdoses (the valve lets through what a slower valve does); from the third on, the
 // dead time measured from the first impact and the stroke from the feedback time the close, and the
-// fills are as good as a valve that keeps its datasheet (same seeds). Before: +97 to +172 g each.
-std::vector<double> fill_errors_g(double dead_ms, double stroke_ms, std::uint64_t seed, int fills) {
+// fills are as good as a valve that keeps its datasheet (same seeds). At 4 kg (four fills, 16 kg of
+// the silo's 18) the close is measured on a grown stream. At 3 kg the stream is still young at the
+// close, and the plan's room for its growth already keeps the slow valve's first fill within X(1).
+constexpr double kValveTargetG = 4000.0;
+std::vector<double> fill_errors_g(double dead_ms, double stroke_ms, std::uint64_t seed, int fills,
+                                  double target_g = kValveTargetG) {
   ValveRig rig(scene_with_valve(dead_ms, stroke_ms), ValveFeedbackKind::reports_moving, seed);
   rig.idle(60);
   std::vector<double> errors;
   for (int fill = 1; fill <= fills; ++fill) {
     const double before_kg = rig.plant().truth().static_kg;
-    const std::string answer = rig.run_command("dose 3000");
+    const std::string answer = rig.run_command("dose " + std::to_string(int(target_g)));
     EXPECT_NE(answer.find("RESULT"), std::string::npos) << answer;
     rig.idle(100);
-    errors.push_back((rig.plant().truth().static_kg - before_kg) * 1000.0 - 3000.0);
+    errors.push_back((rig.plant().truth().static_kg - before_kg) * 1000.0 - target_g);
   }
   return errors;
 }
 
 TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
   constexpr int kSeeds = 6, kFills = 4;
-  const double x2_g = 2.0 * model::oiml_r61_x1_limits(3000.0).initial_verification_g;
+  const double x2_g = 2.0 * model::oiml_r61_x1_limits(kValveTargetG).initial_verification_g;
   double slow_mean[kFills] = {}, matched_mean[kFills] = {};
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const std::vector<double> slow = fill_errors_g(50.0, 150.0, std::uint64_t(seed), kFills);
@@ -91,7 +95,7 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
       }
     }
   }
-  std::printf("dose 3000, mean error per fill over %d seeds (g): 50/150 ms valve", kSeeds);
+  std::printf("dose %.0f, mean error per fill over %d seeds (g): 50/150 ms valve", kValveTargetG, kSeeds);
   for (double e : slow_mean) std::printf(" %+.0f", e);
   std::printf("; 30/80 ms valve (as the datasheet)");
   for (double e : matched_mean) std::printf(" %+.0f", e);
@@ -99,6 +103,22 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
   EXPECT_GT(slow_mean[0] - matched_mean[0], 60.0);  // the datasheet's timing: the slow valve overdoses
   const double later_excess = (slow_mean[2] + slow_mean[3] - matched_mean[2] - matched_mean[3]) / 2.0;
   EXPECT_LT(later_excess, 15.0);
+}
+
+// The same slow valve at 3 kg, the first fill from a blank indicator: the stream is measured while the
+// slow stroke still opens the valve, so its landing rate climbs above its mean. The plan counts that
+// growth and aims short (a top-up finishes the fill); trusting the mean overdosed every seed by 97 to
+// 172 g. Now five of the six seeds end within X(1), and none overdoses as much as before.
+TEST(ValveTiming, ASlowValvesFirstFillOnAYoungStreamIsWithinX1) {
+  const double x1_g = model::oiml_r61_x1_limits(3000.0).initial_verification_g;
+  int within = 0;
+  for (int seed = 1; seed <= 6; ++seed) {
+    const double first_g = fill_errors_g(50.0, 150.0, std::uint64_t(seed), 1, 3000.0).front();
+    within += std::fabs(first_g) <= x1_g ? 1 : 0;
+    EXPECT_LT(first_g, 90.0) << "seed " << seed;
+    EXPECT_GT(first_g, -x1_g) << "seed " << seed;
+  }
+  EXPECT_GE(within, 5);
 }
 
 // A fine feed too short for a slow valve to reach half before the close (a few hundredths of a

@@ -26,8 +26,11 @@ float model_top_up_shortfall_g(DosePlan plan, float warn_low_g) {
   return (plan == DosePlan::topup ? kUndershootTopUpShare : kAimedTopUpShare) * warn_low_g;
 }
 
-void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed) {
+void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed, float jiffy_s) {
   fine_feed_ = fine_feed;
+  const float jiffy = jiffy_s > 0.0f ? jiffy_s : 0.01f;
+  young_rates_ = std::uint32_t(std::lround(kYoungStreamS / jiffy));
+  recent_gain_ = jiffy < kRecentRateS ? jiffy / kRecentRateS : 1.0f;
   class_x_ = class_x > 0.0f ? class_x : 1.0f;
   half_flow_ratio_ = half_flow_ratio > 0.0f && half_flow_ratio <= 1.0f ? half_flow_ratio : 0.5f;
 }
@@ -36,6 +39,7 @@ void DosePlanner::start() {
   rates_ = 0;
   mean_ = 0.0f;
   m2_ = 0.0f;
+  recent_ = 0.0f;
 }
 
 void DosePlanner::observe_rate(float rate_g_per_jiffy) {
@@ -44,6 +48,7 @@ void DosePlanner::observe_rate(float rate_g_per_jiffy) {
   const float delta = rate_g_per_jiffy - mean_;
   mean_ += delta / float(rates_);
   m2_ += delta * (rate_g_per_jiffy - mean_);
+  recent_ = rates_ == 1 ? rate_g_per_jiffy : recent_ + recent_gain_ * (rate_g_per_jiffy - recent_);
 }
 
 float DosePlanner::fluctuation() const {
@@ -51,12 +56,17 @@ float DosePlanner::fluctuation() const {
   return std::sqrt(m2_ / float(rates_ - 1)) / mean_;
 }
 
+float DosePlanner::growth() const {
+  if (rates_ < kLeastRates || rates_ >= young_rates_ || !(mean_ > 0.0f) || !(recent_ > mean_)) return 0.0f;
+  return (recent_ - mean_) / mean_;
+}
+
 PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught) const {
   PlanChoice c;
   c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
   // The flow's fluctuation is partly averaged out over the flight (its correlation time is shorter).
-  const float measured_share = kFluctuationWeight * fluctuation() + kEstimatorShare;
+  const float measured_share = kFluctuationWeight * fluctuation() + kEstimatorShare + growth();
   const float blind_share = law_taught ? kLearnedBlindShare : kBlindShare;
   c.sigma_g = measuring ? measured_share * in_flight : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;

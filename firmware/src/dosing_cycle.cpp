@@ -41,7 +41,7 @@ void DosingCycle::configure(const Parameters& p) {
   pac_.configure(p);
   flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
-  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), model_fine_s_ > 0.0f);
+  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), model_fine_s_ > 0.0f, jiffy_s_);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();

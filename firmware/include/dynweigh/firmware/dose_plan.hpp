@@ -10,7 +10,9 @@
 //          ends below the target rather than over it, and top-up pulses finish it.
 // The uncertainty: a close before the stream is measured rests on the prior (off by up to 40 %:
 // a fifth of the fill, one sigma); a measured one on the flow's fluctuation seen in this dose and
-// the estimator's error, both over the material in flight at the close.
+// the estimator's error, both over the material in flight at the close, and, while the stream is
+// young, on its growth: a landing rate still climbing above its mean means the flow leaving the
+// orifice now is more than the mean that predicts the material in flight.
 #include <cstdint>
 
 namespace dynweigh::firmware {
@@ -38,10 +40,14 @@ class DosePlanner {
   static constexpr float kLearnedBlindShare = 0.01f;  // ... timed by an open-time law two fills taught
   static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
   static constexpr float kFluctuationWeight = 0.3f;   // of the rate's fluctuation, what the in-flight keeps
+  // A stream measured for less than this is young: its flow may still be starting up (the flow's
+  // start-up is 0.05 to 0.5 s, the valve's stroke up to 0.3 s, seen after the fall).
+  static constexpr float kYoungStreamS = 1.0f;
+  static constexpr float kRecentRateS = 0.05f;  // the recent rate's time constant, against the mean
 
   // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
-  // `fine_feed` whether the plan may choose a fine feed.
-  void configure(float class_x, float half_flow_ratio, bool fine_feed);
+  // `fine_feed` whether the plan may choose a fine feed; `jiffy_s` the control period.
+  void configure(float class_x, float half_flow_ratio, bool fine_feed, float jiffy_s);
   void start();
   // Each jiffy the stream is measured: the landing rate, for its fluctuation.
   void observe_rate(float rate_g_per_jiffy);
@@ -51,14 +57,20 @@ class DosePlanner {
   // `law_taught`: a blind close is timed by the open-time law this material's fills taught.
   PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false) const;
   float fluctuation() const;  // the landing rate's relative standard deviation in this dose
+  // While the stream is young, how far its recent landing rate is above its mean, as a share of
+  // the mean; 0 once it is not young, or not growing.
+  float growth() const;
 
  private:
   float class_x_ = 1.0f;
   float half_flow_ratio_ = 0.5f;
   bool fine_feed_ = false;
+  std::uint32_t young_rates_ = 100;
+  float recent_gain_ = 0.2f;
   std::uint32_t rates_ = 0;
   float mean_ = 0.0f;
   float m2_ = 0.0f;
+  float recent_ = 0.0f;
 };
 
 }  // namespace dynweigh::firmware
