@@ -70,6 +70,22 @@ TEST(TopUp, AModelFillThatClosedShortIsToppedUpWithinX1) {
   }
 }
 
+// A dose that closed short and was topped up learned from its close and from each pulse. It asks
+// the board to save the settings once, when its result is reported, not after every pulse (an
+// EEPROM wears with each write); what it learned is in that one save.
+TEST(TopUp, ADoseWithTopUpsSavesTheSettingsOnce) {
+  ConsoleSession c;
+  c.run(kCloseShort);
+  const std::uint32_t before = c.saves_asked();
+  const Dose topped = dose(c, kShortTargetG);
+  ASSERT_FALSE(topped.result.empty());
+  ASSERT_GE(std::stoi(field(topped.result, "topups")), 1) << topped.result;
+  EXPECT_EQ(c.saves_asked() - before, 1u) << topped.result;
+  const firmware::Material& kept = c.session().indicator().settings().materials.at(0);
+  EXPECT_GT(kept.learned.open_time_law.fills, 0u);
+  EXPECT_GT(kept.pulses.full.pulses + kept.pulses.half.pulses, 0);
+}
+
 // A blind close at 2 kg on the default scene aims short on purpose (plan topup). With topup_max 0
 // the fill stays short; with topup_max 1 one pulse is all it gets, and being the last it aims at the
 // whole deficit: it ends nearer the target than the pulses' cautious first aim would leave it.

@@ -48,6 +48,7 @@ void ConsoleCommands::abort(Indicator& indicator, const Arguments& args) {
   Console& console = indicator.console_;
   if (args.count != 1) return console.error(2, "usage: abort");
   if (indicator.dose_running()) indicator.dosing_.abort();
+  indicator.save_lessons();  // what the dose's close and pulses taught before the abort is kept
   if (indicator.batch_.active()) indicator.end_batch(false);  // BATCH ok=0 before the ERR
   indicator.follow_up_.finish();  // a held or topping-up result is dropped, unlogged
   indicator.discharge_.abort();   // the gate is commanded closed, unproven

@@ -24,12 +24,20 @@ void Indicator::conclude_top_up() {
 }
 
 // What a sized pulse taught stays with the material, for the next dose's pulses (a baseline's fixed
-// pulses teach nothing: no save, no wear on the memory).
+// pulses teach nothing), saved with the dose's other lessons when it ends.
 void Indicator::keep_top_up_learning() {
   if (!dosing_.sizes_top_ups()) return;
   const TopUpPulseLearning pulses = dosing_.top_up_learning();
   if (pulses.empty()) return;
   settings_.materials.keep_pulses(pulses);
+  lessons_unsaved_ = true;
+}
+
+// One save per dose: a record written after every pulse would wear an EEPROM up to four times as
+// fast. A power loss before it costs the dose's lessons, never the record before them.
+void Indicator::save_lessons() {
+  if (!lessons_unsaved_) return;
+  lessons_unsaved_ = false;
   settings_changed_ = true;
 }
 
@@ -80,6 +88,7 @@ void Indicator::write_verdict_fields() {
 }
 
 void Indicator::report_hold() {
+  save_lessons();
   follow_up_.hold();
   dose_command_pending_ = false;
   write_fill_line_start("HOLD");
@@ -89,6 +98,7 @@ void Indicator::report_hold() {
 }
 
 void Indicator::report_result() {
+  save_lessons();
   follow_up_.finish();
   dose_command_pending_ = false;
   LogRecord record;

@@ -207,6 +207,7 @@ bool Indicator::reject_if_busy() {
 void Indicator::raise(Fault fault) {
   if (fault == Fault::none || fault_ != Fault::none) return;  // the first cause is the one to report
   fault_ = fault;
+  save_lessons();
   test_.scheduled = false;
   if (dose_running()) dosing_.abort();
   follow_up_.finish();
@@ -260,24 +261,24 @@ void Indicator::learn_from_result() {
   const DoseResult& r = dosing_.result();
   if (r.strategy == DosingStrategy::learn) {
     settings_.learning.learn(dosing_.learning_key(), float(r.final_g - r.target_g));
-    settings_changed_ = true;
+    lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::model || r.strategy == DosingStrategy::learn) {
     settings_.materials.keep_learned(dosing_.model_fill_law().learned());
-    settings_changed_ = true;
+    lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::twostage) {
     settings_.parameters.set(ParameterId::twostage_preact_g, dosing_.two_stage().fine_preact_g());
     settings_.parameters.set(ParameterId::twostage_coarse_g, dosing_.two_stage().coarse_g());
-    settings_changed_ = true;
+    lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::pac) {
     settings_.baselines.pac = dosing_.pac().learned();
-    settings_changed_ = true;
+    lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::flowpreact) {
     settings_.baselines.flowpreact = dosing_.flow_preact().learned();
-    settings_changed_ = true;
+    lessons_unsaved_ = true;
   }
 }
 

@@ -44,6 +44,7 @@ class ConsoleSession {
   firmware::Outputs step() {
     const firmware::Outputs out = session_.step(console_);
     console_.set_indicator_busy(out.busy);
+    if (out.settings_changed) ++saves_asked_;
     trace_.push_back(session_.last_row());
     return out;
   }
@@ -58,6 +59,8 @@ class ConsoleSession {
 
   hal::host::LockstepSession& session() { return session_; }
   const std::vector<hal::host::TraceRow>& trace() const { return trace_; }
+  // How many jiffies asked the board to save the settings, since the session began.
+  std::uint32_t saves_asked() const { return saves_asked_; }
 
  private:
   bool next_line(std::string& line) {
@@ -67,6 +70,7 @@ class ConsoleSession {
     return true;
   }
 
+  std::uint32_t saves_asked_ = 0;
   hal::host::LockstepSession session_;
   hal::host::ScriptedConsole console_;
   std::deque<std::string> script_;

@@ -131,6 +131,7 @@ class Indicator {
   void conclude_top_up();
   void start_top_up();
   void keep_top_up_learning();
+  void save_lessons();
   void judge_result();
   void report_result();
   void report_hold();
@@ -150,6 +151,9 @@ class Indicator {
 
   PersistentSettings settings_;
   bool settings_changed_ = false;  // this jiffy: the board should save them
+  // What a dose's fills and pulses taught, in the settings but not yet saved: saved once, when the
+  // dose ends (its result reported or held, a fault, an abort), not after every pulse.
+  bool lessons_unsaved_ = false;
 
   // The parts.
   Console console_;
