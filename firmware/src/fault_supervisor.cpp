@@ -17,14 +17,16 @@ std::uint32_t jiffies_for(float ms, float jiffy_ms) {
 }  // namespace
 
 // The largest step the installation's own stream can put on the reading between two samples: its
-// impact force (the prior's full flow times the speed of the fall) arriving at once, on a platform
-// that rings up to twice a step. A long fall or a wide bore lands more than 5 % of Max at a stroke.
+// impact force (the full flow times the speed of the fall) arriving at once, on a platform that rings
+// up to twice a step. The full flow is the prior's, which a density guessed 40 % low and Beverloo's
+// C at the top of its range put at half the material's own. A long fall or a wide bore lands more
+// than 5 % of Max at a stroke.
 float FaultSupervisor::landing_step_g(const Parameters& p) {
   const float bore_m = p.get(ParameterId::bore_mm) / 1000.0f;
   const model::BeverlooMaterial<float> material{0.58f, 1.5f, 0.0005f, p.get(ParameterId::density)};
   const float flow_kg_s = model::beverloo_discharge_kg_s(material, kGravity, bore_m);
   const float speed_m_s = std::sqrt(2.0f * kGravity * p.get(ParameterId::fall_mm) / 1000.0f);
-  return kLandingRingFactor * flow_kg_s * speed_m_s / kGravity * 1000.0f;
+  return kLandingRingFactor * kPriorFlowShortfall * flow_kg_s * speed_m_s / kGravity * 1000.0f;
 }
 
 void FaultSupervisor::configure(const Parameters& p) {
@@ -167,10 +169,11 @@ void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
     leave_ms = configured_dead_ms_ + kValveLeaveMarginMs;
   }
   // A dead time the feedback has shown on any stroke from standstill (closed to half, a close given
-  // before the valve was open) is this valve's, whatever the datasheet says.
-  const D dead_seen = timing_.dead_times(own) > 0 ? own : other;
-  if (timing_.dead_times(dead_seen) > 0) {
-    leave_ms = timing_.slowest_dead_ms(dead_seen) + kValveLeaveMarginMs;
+  // before the valve was open) is this valve's, whatever the datasheet says: the slowest either way
+  // (one actuator, one supply), so that one fast stroke one way does not set the next one's limit.
+  const float slowest_dead_ms = std::fmax(timing_.slowest_dead_ms(own), timing_.slowest_dead_ms(other));
+  if (slowest_dead_ms > 0.0f) {
+    leave_ms = slowest_dead_ms + kValveLeaveMarginMs;
     arrival_ms = std::fmax(arrival_ms, leave_ms + kValveArrivalMarginMs);
   }
   valve_start_jiffies_ = jiffies_for(leave_ms + delay_ms, jiffy_ms_);
@@ -313,7 +316,11 @@ bool FaultSupervisor::watch_early_leak(float filtered_g, float rise_g) {
 
 Fault FaultSupervisor::watch_after_close(const Observation& o) {
   if (!closed_by_dose_ || o.command_in_force != ValveCommand::closed) return Fault::none;
-  if (command_age_ == 1) settled_weight_.reset(ring_period_jiffies(o.filtered_g));
+  if (command_age_ == 1) {
+    const std::uint32_t least = jiffies_for(kLeastRingWindowMs, jiffy_ms_);
+    const std::uint32_t period = ring_period_jiffies(o.filtered_g);
+    settled_weight_.reset(period > least ? period : least);
+  }
   settled_weight_.push(o.filtered_g);
   const float weight_g = settled_weight_.mean();
   const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,

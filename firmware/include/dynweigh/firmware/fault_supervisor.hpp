@@ -62,6 +62,7 @@ class FaultSupervisor {
   static constexpr float kOutlierFractionOfCapacity = 0.05f;
   static constexpr std::uint32_t kOutlierFaultCount = 3;
   static constexpr float kLandingRingFactor = 2.0f;  // a step on a lightly damped platform swings to 2x
+  static constexpr float kPriorFlowShortfall = 2.0f;  // the material's full flow, at most, over the prior's
   static constexpr float kValveLeaveMarginMs = 40.0f;    // dead-time jitter, a feedback frame late
   static constexpr float kValveArrivalMarginMs = 30.0f;
   static constexpr float kValveArrivalMarginFraction = 0.05f;
@@ -78,6 +79,10 @@ class FaultSupervisor {
   static constexpr float kEarlyLeakWindowMs = 250.0f;
   static constexpr float kFlowAfterCloseRiseFractionOfCapacity = 0.002f;  // 100 g on 50 kg; settling rings +-30 g
   static constexpr float kFlowAfterCloseRiseStableBands = 50.0f;
+  // The after-close checks average the weight over at least this long, whatever `platform_hz` says:
+  // a loaded platform whose parameters were left at their defaults may ring at 2 Hz, and a mean over
+  // the configured (shorter) period passes most of its swing.
+  static constexpr float kLeastRingWindowMs = 500.0f;
   static constexpr float kOverloadMarginG = 9.0f;  // 9 d above Max, as OIML R76 blanks
 
   // Limits from the installation's parameters (capacity, jiffy, valve timing, fall height).
