@@ -107,8 +107,8 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
 
 // The same slow valve at 3 kg, the first fill from a blank indicator: the stream is measured while the
 // slow stroke still opens the valve, so its landing rate climbs above its mean. The plan counts that
-// growth and aims short (a top-up finishes the fill); trusting the mean overdosed every seed by 97 to
-// 172 g. Now five of the six seeds end within X(1), and none overdoses as much as before.
+// growth and aims short (a top-up finishes the fill); trusting the mean overdosed every seed by 84 to
+// 124 g. Now five of the six seeds end within X(1) (-15 to +71 g), and none by 90 g or more.
 TEST(ValveTiming, ASlowValvesFirstFillOnAYoungStreamIsWithinX1) {
   const double x1_g = model::oiml_r61_x1_limits(3000.0).initial_verification_g;
   int within = 0;
