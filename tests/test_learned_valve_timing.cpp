@@ -81,6 +81,50 @@ TEST(LearnedValveTiming, NothingLearnedTakesEffectWithinADose) {
   EXPECT_DOUBLE_EQ(v.in_use().stroke_s, 0.080);
 }
 
+// What a material's doses measured, kept in the settings record, comes back after a restart (which
+// configures the timing anew): the next dose is timed as the last one was, not by the datasheet.
+TEST(LearnedValveTiming, WhatWasMeasuredComesBackAfterARestart) {
+  auto v = valve();
+  v.learn_dead_time(0.058);
+  v.learn_dead_time(0.062);
+  v.measured_travel(0.060 + 0.150, 5);
+  const ValveTimingLearning kept = v.learned();
+  EXPECT_FLOAT_EQ(kept.dead_s, 0.060f);
+  EXPECT_EQ(kept.dead_doses, 2u);
+  EXPECT_EQ(kept.travel_strokes, 5u);
+
+  auto restarted = valve();
+  restarted.restore(kept);
+  restarted.measured_travel(0.0, 0);  // the feedback has timed no stroke since the restart
+  restarted.start_dose();
+  EXPECT_NEAR(restarted.in_use().dead_s, 0.060, 1e-6);
+  EXPECT_NEAR(restarted.in_use().stroke_s, 0.150, 1e-6);
+  // One more dose joins the mean as the third: the two restored count.
+  restarted.learn_dead_time(0.030);
+  EXPECT_NEAR(restarted.learned().dead_s, 0.050, 1e-6);
+  // The feedback's strokes since the restart are newer than the stored travel: a restore keeps them.
+  restarted.measured_travel(0.180, 1);
+  restarted.restore(kept);
+  restarted.start_dose();
+  EXPECT_NEAR(restarted.in_use().stroke_s, 0.180 - restarted.in_use().dead_s, 1e-6);
+}
+
+// A material not yet dosed keeps what the valve showed with the last one; a timing no valve shows
+// (a stored record gone wrong) is not taken.
+TEST(LearnedValveTiming, NothingOrNonsenseRestoredLeavesTheTimingAsItWas) {
+  auto v = valve();
+  v.learn_dead_time(0.055);
+  v.learn_dead_time(0.055);
+  v.restore(ValveTimingLearning{});
+  ValveTimingLearning wild;
+  wild.dead_s = -0.5f;
+  wild.dead_doses = 3;
+  v.restore(wild);
+  v.start_dose();
+  EXPECT_NEAR(v.in_use().dead_s, 0.055, 1e-9);
+  EXPECT_FALSE(sane(wild));
+}
+
 // Through the dead time the valve is still full open: every millisecond more of it lets a
 // millisecond more of full flow through, and delays the stream's start as much.
 TEST(LearnedValveTiming, ALongerDeadTimeLetsItsFullFlowThrough) {

@@ -90,6 +90,39 @@ TEST(MaterialLearning, SecondTenKilogramFillWithinX1OnAValveOffItsDatasheet) {
   EXPECT_LE(std::abs(errors[1]), x1_limit_g(10000.0));
 }
 
+// A valve 40 ms slower to start and 170 ms slower in travel than the datasheet the indicator was left
+// with. What its doses measured of it (the dead time from the first impacts, the travel from the
+// feedback) is kept with the material, so the dose after a restart is timed by it, not by the
+// datasheet again.
+TEST(MaterialLearning, TheValvesMeasuredTimingSurvivesARestart) {
+  sim::Scene scene = sim::default_scene();
+  scene.valve.dead_time_s = 0.070;
+  scene.valve.full_stroke_s = 0.250;
+  PersistentSettings settings = commissioned(scene);
+  fills(scene, settings, 5000, 2);
+  const firmware::ValveTimingLearning& kept = settings.materials.at(0).learned.valve;
+  EXPECT_EQ(kept.dead_doses, 2u);
+  EXPECT_NEAR(kept.dead_s, 0.070, 0.012);
+  EXPECT_GE(kept.travel_strokes, 1u);  // the strokes timed since the last restart
+  EXPECT_NEAR(kept.travel_s, 0.070 + 0.250, 0.03);
+  ConsoleSession c(scene, 200, settings);
+  c.idle(100);
+  const auto learned = lines_of(c.run({"estimates"}));
+  ASSERT_EQ(learned.size(), 3u);
+  ASSERT_EQ(learned[1].rfind("VALVE material=0 ", 0), 0u) << learned[1];
+  EXPECT_NEAR(std::stod(field(learned[1], "dead_ms")), 70.0, 12.0) << learned[1];
+  EXPECT_EQ(field(learned[1], "dead_doses"), "2") << learned[1];
+  ASSERT_EQ(lines_of(c.run({"dose 5000"})).size(), 2u);
+  const auto estimates = lines_of(c.run({"estimates"}));
+  ASSERT_GE(estimates.size(), 1u);
+  const double dead_used_ms = std::stod(field(estimates[0], "dead_used_ms"));
+  const double stroke_used_ms = std::stod(field(estimates[0], "stroke_used_ms"));
+  std::printf("after a restart: dead %.1f ms, stroke %.1f ms used (valve 70 / 250, datasheet 30 / 80)\n",
+              dead_used_ms, stroke_used_ms);
+  EXPECT_NEAR(dead_used_ms, 70.0, 12.0);
+  EXPECT_NEAR(stroke_used_ms, 250.0, 30.0);
+}
+
 // 500 g on a wide bore (about 5 kg/s) with 1.2 m of fall: more is in flight than the target, so the
 // close comes before the stream has landed. The first two fills, on the prior, aim short and are
 // topped up; the open-time law their closes teach times the later ones.
@@ -149,7 +182,7 @@ TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   ConsoleSession c(scene, 1, settings);
   // After a restart no dose has been measured, but what the material learned is told.
   const auto estimates = lines_of(c.run({"estimates"}));
-  ASSERT_EQ(estimates.size(), 2u);
+  ASSERT_EQ(estimates.size(), 3u);  // LEARNED, VALVE, OK
   EXPECT_EQ(estimates.front().rfind("LEARNED material=0 law_flow_kg_s=", 0), 0u) << estimates.front();
   EXPECT_NE(estimates.front().find(" law_fills=1 "), std::string::npos) << estimates.front();
   EXPECT_EQ(c.run({"learn reset"}), "OK\n");
@@ -167,6 +200,7 @@ firmware::MaterialLearning some_learning() {
   learned.open_time_law = {4200.0f, -310.0f, 9000.0f, -800.0f, 400.0f, 3};
   learned.close_let_through_s = 0.042f;
   learned.residual_fills = 2;
+  learned.valve = {0.064f, 0.215f, 5, 9};
   return learned;
 }
 
@@ -183,6 +217,10 @@ TEST(MaterialLearningRecord, SurvivesAPowerCutPerMaterial) {
   EXPECT_FLOAT_EQ(kept.open_time_law.p12, -800.0f);
   EXPECT_FLOAT_EQ(kept.close_let_through_s, 0.042f);
   EXPECT_EQ(kept.residual_fills, 2u);
+  EXPECT_FLOAT_EQ(kept.valve.dead_s, 0.064f);
+  EXPECT_EQ(kept.valve.dead_doses, 5u);
+  EXPECT_FLOAT_EQ(kept.valve.travel_s, 0.215f);
+  EXPECT_EQ(kept.valve.travel_strokes, 9u);
   EXPECT_TRUE(restored.materials.at(0).learned.empty());
 }
 
@@ -191,14 +229,27 @@ TEST(MaterialLearningRecord, WhatNoFillCanTeachIsDropped) {
   firmware::MaterialLearning wild = some_learning();
   wild.open_time_law.p11 = -1.0f;  // no covariance
   wild.close_let_through_s = 30.0f;   // half a minute of let-through
+  wild.valve.travel_s = 4.0f;         // a valve four seconds in travel
   settings.materials.keep_learned(wild);
   EXPECT_TRUE(after_power_cut(settings).materials.at(0).learned.empty());
 }
 
 // The record of an older firmware: today's, with each material entry cut to what that version kept
-// (version 6: name, density and class; version 7: also what the model's fills learned).
+// (version 6: name, density and class; version 7: also what the model's fills learned; version 8:
+// also what its top-up pulses taught).
+std::size_t older_entry_bytes(int version) {
+  return version == 6 ? firmware::kMaterialEntryBytesV6
+         : version == 7 ? firmware::kMaterialEntryBytesV7
+                        : firmware::kMaterialEntryBytesV8;
+}
+std::size_t older_record_bytes(int version) {
+  return version == 6 ? firmware::kSettingsRecordSizeV6
+         : version == 7 ? firmware::kSettingsRecordSizeV7
+                        : firmware::kSettingsRecordSizeV8;
+}
+
 std::vector<std::uint8_t> older_record(const PersistentSettings& settings, int version) {
-  const std::size_t entry_bytes = version == 6 ? firmware::kMaterialEntryBytesV6 : firmware::kMaterialEntryBytesV7;
+  const std::size_t entry_bytes = older_entry_bytes(version);
   std::vector<std::uint8_t> now(firmware::kSettingsRecordSize);
   firmware::encode_settings(settings, now.data(), now.size());
   const std::size_t table = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes;
@@ -207,7 +258,7 @@ std::vector<std::uint8_t> older_record(const PersistentSettings& settings, int v
     const auto entry = now.begin() + std::ptrdiff_t(table + 4 + n * firmware::kMaterialEntryBytes);
     old.insert(old.end(), entry, entry + std::ptrdiff_t(entry_bytes));
   }
-  EXPECT_EQ(old.size(), version == 6 ? firmware::kSettingsRecordSizeV6 : firmware::kSettingsRecordSizeV7);
+  EXPECT_EQ(old.size(), older_record_bytes(version));
   auto put = [](std::uint8_t* p, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
   };
@@ -245,6 +296,22 @@ TEST(MaterialLearningRecord, ThePulsesLessonsSurviveAPowerCutAndAVersionSevenRec
   EXPECT_TRUE(settings.materials.at(0).pulses.empty());
 }
 
+// A version-8 record (before the valve's timing was kept) loads with the fills' and the pulses'
+// lessons and no valve timing: the next dose starts from the datasheet.
+TEST(MaterialLearningRecord, AVersionEightRecordLoadsWithNoValveTiming) {
+  PersistentSettings settings;
+  settings.materials.keep_learned(some_learning());
+  settings.materials.keep_pulses(some_pulses());
+  const std::vector<std::uint8_t> old = older_record(settings, 8);
+  PersistentSettings loaded;
+  ASSERT_TRUE(firmware::decode_settings(old.data(), old.size(), loaded));
+  const firmware::MaterialLearning& learned = loaded.materials.at(0).learned;
+  EXPECT_EQ(learned.open_time_law.fills, some_learning().open_time_law.fills);
+  EXPECT_EQ(learned.residual_fills, some_learning().residual_fills);
+  EXPECT_FLOAT_EQ(loaded.materials.at(0).pulses.full.law.theta1, some_pulses().full.law.theta1);
+  EXPECT_TRUE(learned.valve.empty());
+}
+
 TEST(MaterialLearningRecord, AVersionSixRecordLoadsWithNothingLearned) {
   PersistentSettings settings;
   settings.materials.rename(2, "barley");
@@ -269,11 +336,11 @@ std::vector<std::uint8_t> file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A version-6 or version-7 --nvm file (its settings slots smaller than today's, the logbook and the
+// A version-6, -7 or -8 --nvm file (its settings slots smaller than today's, the logbook and the
 // totalizers right behind them): grown on start, its logbook and totalizers moved behind today's
 // slots, its settings read with what that version did not keep empty.
 TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
-  for (int version : {6, 7}) {
+  for (int version : {6, 7, 8}) {
     SCOPED_TRACE("version " + std::to_string(version));
     PersistentSettings settings;
     settings.materials.rename(1, "barley");
@@ -297,7 +364,9 @@ TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
     const std::vector<std::uint8_t> now = file_bytes(today.path());
     ASSERT_EQ(now.size(), hal::host::kNvmFileBytes);
     // Slot 0 holds the older record; slot 1 is erased; then today's logbook and totalizers.
-    const std::size_t settings_bytes = version == 6 ? hal::host::kVersion6SettingsBytes : hal::host::kVersion7SettingsBytes;
+    const std::size_t settings_bytes = version == 6   ? hal::host::kVersion6SettingsBytes
+                                       : version == 7 ? hal::host::kVersion7SettingsBytes
+                                                      : hal::host::kVersion8SettingsBytes;
     std::vector<std::uint8_t> old(settings_bytes, 0xFF);
     const std::vector<std::uint8_t> record = older_record(settings, version);
     std::uint8_t* slot = old.data();
@@ -307,7 +376,9 @@ TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
     std::copy(record.begin(), record.end(), slot + firmware::kSlotHeaderSize);
     put_u32(slot + 12, firmware::crc32(slot + 4, 8) ^ firmware::crc32(record.data(), record.size()));
     old.insert(old.end(), now.begin() + std::ptrdiff_t(hal::host::kFileLogbookOffset), now.end());
-    ASSERT_EQ(old.size(), version == 6 ? hal::host::kVersion6FileBytes : hal::host::kVersion7FileBytes);
+    ASSERT_EQ(old.size(), version == 6   ? hal::host::kVersion6FileBytes
+                          : version == 7 ? hal::host::kVersion7FileBytes
+                                         : hal::host::kVersion8FileBytes);
     TempFile file{"dynweigh_learning"};
     std::ofstream(file.path(), std::ios::binary).write(reinterpret_cast<const char*>(old.data()), std::streamsize(old.size()));
 
@@ -318,7 +389,8 @@ TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
     ASSERT_TRUE(store.load(loaded));
     EXPECT_STREQ(loaded.materials.at(1).name, "barley");
     EXPECT_EQ(loaded.materials.at(1).learned.empty(), version == 6);
-    EXPECT_TRUE(loaded.materials.at(1).pulses.empty());
+    EXPECT_EQ(loaded.materials.at(1).pulses.empty(), version < 8);
+    EXPECT_TRUE(loaded.materials.at(1).learned.valve.empty());
     ASSERT_EQ(store.logbook()->last_sequence(), 3u);
     firmware::LogRecord r;
     ASSERT_TRUE(store.logbook()->read(3, r));

@@ -91,6 +91,19 @@ void write_learned(Console& console, std::size_t material, const MaterialLearnin
   console.write_int(learned.residual_fills);
   console.put('\n');
 }
+
+// What the selected material's doses measured of the valve (kept with it across restarts).
+void write_valve_timing(Console& console, std::size_t material, const ValveTimingLearning& valve) {
+  console.write("VALVE material=");
+  console.write_int(std::int64_t(material));
+  write_estimate(console, "dead_ms", valve.dead_doses > 0, 1000.0f * valve.dead_s, 1);
+  console.write(" dead_doses=");
+  console.write_int(valve.dead_doses);
+  write_estimate(console, "travel_ms", valve.travel_strokes > 0, 1000.0f * valve.travel_s, 1);
+  console.write(" travel_strokes=");
+  console.write_int(valve.travel_strokes);
+  console.put('\n');
+}
 }  // namespace
 
 void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
@@ -119,6 +132,7 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
     console.put('\n');
   }
   write_learned(console, materials.selected(), learned);
+  write_valve_timing(console, materials.selected(), learned.valve);
   if (model_dosed) {
     const PlanChoice plan = indicator.dosing_.plan();
     console.write("PLAN plan=");

@@ -264,7 +264,7 @@ void Indicator::learn_from_result() {
     lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::model || r.strategy == DosingStrategy::learn) {
-    settings_.materials.keep_learned(dosing_.model_fill_law().learned());
+    settings_.materials.keep_learned(dosing_.model_learned());
     lessons_unsaved_ = true;
   }
   if (r.strategy == DosingStrategy::twostage) {

@@ -30,6 +30,7 @@ void BasicLearnedValveTiming<Scalar>::configure(const ValveDatasheet<Scalar>& da
   const Scalar half_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(0.5));
   half_flow_ratio_ = full_rate > Scalar(0) ? half_rate / full_rate : Scalar(0.5);
   measured_travel_strokes_ = 0;
+  travel_timed_ = false;
   use(datasheet.dead_s, datasheet.stroke_s);
 }
 
@@ -68,6 +69,33 @@ template <typename Scalar>
 void BasicLearnedValveTiming<Scalar>::learn_dead_time(Scalar measured_s) {
   dead_time_doses_ = dead_time_doses_ < kDeadTimeMemory ? dead_time_doses_ + 1 : kDeadTimeMemory;
   measured_dead_s_ += (measured_s - measured_dead_s_) / Scalar(dead_time_doses_);
+}
+
+template <typename Scalar>
+ValveTimingLearning BasicLearnedValveTiming<Scalar>::learned() const {
+  ValveTimingLearning l;
+  if (dead_time_doses_ > 0) {
+    l.dead_s = float(measured_dead_s_);
+    l.dead_doses = std::uint16_t(dead_time_doses_);
+  }
+  if (measured_travel_strokes_ > 0) {
+    l.travel_s = float(measured_travel_s_);
+    l.travel_strokes = std::uint16_t(measured_travel_strokes_ < 0xFFFFu ? measured_travel_strokes_ : 0xFFFFu);
+  }
+  return l;
+}
+
+template <typename Scalar>
+void BasicLearnedValveTiming<Scalar>::restore(const ValveTimingLearning& learned) {
+  if (!sane(learned)) return;
+  if (learned.dead_doses > 0) {
+    measured_dead_s_ = Scalar(learned.dead_s);
+    dead_time_doses_ = learned.dead_doses < kDeadTimeMemory ? learned.dead_doses : kDeadTimeMemory;
+  }
+  if (learned.travel_strokes > 0 && !travel_timed_) {
+    measured_travel_s_ = Scalar(learned.travel_s);
+    measured_travel_strokes_ = learned.travel_strokes;
+  }
 }
 
 template <typename Scalar>

@@ -11,8 +11,10 @@ namespace {
 constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
 // 5: the tolerance parameters; 6: the discharge parameters and the material table; 7: what the model
-// strategy's fills of each material measured; 8: what each material's top-up pulses taught
-constexpr std::uint16_t kVersion = 8;
+// strategy's fills of each material measured; 8: what each material's top-up pulses taught; 9: the
+// valve's timing each material's doses measured
+constexpr std::uint16_t kVersion = 9;
+constexpr std::uint16_t kVersionBeforeValveTiming = 8;
 constexpr std::uint16_t kVersionBeforePulses = 7;
 constexpr std::uint16_t kVersionBeforeMaterialLearning = 6;
 constexpr std::uint16_t kVersionBeforeMaterials = 5;
@@ -120,6 +122,25 @@ PulseLawLearning get_pulse_law(const std::uint8_t* p) {
   return law;
 }
 
+void put_valve_timing(std::uint8_t* p, const ValveTimingLearning& v) {
+  put_f32(p, v.dead_s);
+  put_f32(p + 4, v.travel_s);
+  p[8] = std::uint8_t(v.dead_doses);
+  p[9] = std::uint8_t(v.dead_doses >> 8);
+  p[10] = std::uint8_t(v.travel_strokes);
+  p[11] = std::uint8_t(v.travel_strokes >> 8);
+}
+
+// A timing no valve shows is dropped: the datasheet's stands.
+ValveTimingLearning get_valve_timing(const std::uint8_t* p) {
+  ValveTimingLearning v;
+  v.dead_s = get_f32(p);
+  v.travel_s = get_f32(p + 4);
+  v.dead_doses = std::uint16_t(p[8] | (p[9] << 8));
+  v.travel_strokes = std::uint16_t(p[10] | (p[11] << 8));
+  return sane(v) ? v : ValveTimingLearning{};
+}
+
 void put_materials(std::uint8_t* p, const MaterialTable& table) {
   p[0] = std::uint8_t(table.selected());
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
@@ -132,17 +153,20 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     put_material_learning(e + kMaterialEntryBytesV6, m.learned);
     put_pulse_law(e + kMaterialEntryBytesV7, m.pulses.full);
     put_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes, m.pulses.half);
+    put_valve_timing(e + kMaterialEntryBytesV8, m.learned.valve);
   }
 }
 
 // An entry no console command can produce (a name not NUL-ended or not a name, a density or class
 // out of range) is dropped: the material is undefined, and a selection of it falls back to 0.
 // A version-6 table has no learned fields: every material starts with nothing learned; a version-7
-// one no top-up pulses' lessons.
+// one no top-up pulses' lessons; a version-8 one no valve timing.
 MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, MaterialsInRecord materials) {
   MaterialTable table(parameters);
   const std::size_t entry_bytes = material_entry_bytes(materials);
-  const bool with_learning = materials == MaterialsInRecord::learned || materials == MaterialsInRecord::pulses;
+  const bool with_learning = materials == MaterialsInRecord::learned || materials == MaterialsInRecord::pulses ||
+                             materials == MaterialsInRecord::valve;
+  const bool with_pulses = materials == MaterialsInRecord::pulses || materials == MaterialsInRecord::valve;
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
     const std::uint8_t* e = p + 4 + entry_bytes * n;
     if (e[0] != 1) continue;
@@ -152,10 +176,11 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
     m.density = get_f32(e + 4 + Material::kNameBytes);
     m.class_x = get_f32(e + 8 + Material::kNameBytes);
     if (with_learning) m.learned = get_material_learning(e + kMaterialEntryBytesV6);
-    if (materials == MaterialsInRecord::pulses) {
+    if (with_pulses) {
       m.pulses.full = get_pulse_law(e + kMaterialEntryBytesV7);
       m.pulses.half = get_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes);
     }
+    if (materials == MaterialsInRecord::valve) m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8);
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;
@@ -218,13 +243,15 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
-  const std::size_t parameter_count = version == kVersion || version == kVersionBeforePulses ||
+  const std::size_t parameter_count = version == kVersion || version == kVersionBeforeValveTiming ||
+                                              version == kVersionBeforePulses ||
                                               version == kVersionBeforeMaterialLearning
                                           ? kParameterCount
                                       : version == kVersionBeforeMaterials ? kParametersV5
                                       : version == kVersionBeforeTolerance ? kParametersV4
                                                                            : 0;
-  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::pulses
+  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::valve
+                                      : version == kVersionBeforeValveTiming      ? MaterialsInRecord::pulses
                                       : version == kVersionBeforePulses           ? MaterialsInRecord::learned
                                       : version == kVersionBeforeMaterialLearning ? MaterialsInRecord::table
                                                                                   : MaterialsInRecord::none;

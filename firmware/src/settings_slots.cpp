@@ -7,10 +7,10 @@ namespace {
 
 constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
 
-// The records of older firmware (versions 7, 6, 5 and 4), and where their second slot lay: a board
-// updated from one still finds its settings (the next save writes today's layout).
-constexpr std::size_t kOlderRecordSizes[] = {kSettingsRecordSizeV7, kSettingsRecordSizeV6, kSettingsRecordSizeV5,
-                                             kSettingsRecordSizeV4};
+// The records of older firmware (versions 8, 7, 6, 5 and 4), and where their second slot lay: a
+// board updated from one still finds its settings (the next save writes today's layout).
+constexpr std::size_t kOlderRecordSizes[] = {kSettingsRecordSizeV8, kSettingsRecordSizeV7, kSettingsRecordSizeV6,
+                                             kSettingsRecordSizeV5, kSettingsRecordSizeV4};
 
 bool known_record_size(std::size_t payload) {
   if (payload == kSettingsRecordSize) return true;

@@ -102,6 +102,8 @@ class DosingCycle {
   }
   TopUpPulseLearning top_up_learning() const { return top_up_law_.learned(); }
   const LearnedFillLaw& model_fill_law() const { return model_.fill_law(); }
+  // What the selected material's model or learn fills taught, to keep with it.
+  MaterialLearning model_learned() const { return model_.learned(); }
   // What the last model or learn dose measured of the valve and the material.
   const DoseEstimates<float>& model_estimates() const { return model_.estimates(); }
   float model_dead_time_s() const { return model_.dead_time_in_use_s_now(); }

@@ -6,6 +6,7 @@
 // is adopted when a dose starts, never within one.
 #include <cstdint>
 
+#include "dynweigh/firmware/valve_timing_learning.hpp"
 #include "dynweigh/model/beverloo.hpp"
 
 namespace dynweigh::firmware {
@@ -46,11 +47,19 @@ class BasicLearnedValveTiming {
   // A dose whose stream ran measurably timed its first impact: one more measured dead time.
   void learn_dead_time(Scalar measured_s);
   // What the valve's feedback showed: the mean time from the command to the end position over
-  // `strokes` full strokes.
+  // `strokes` full strokes. No stroke timed (a restart): what was restored stands.
   void measured_travel(Scalar mean_s, std::uint32_t strokes) {
+    if (strokes == 0) return;
     measured_travel_s_ = mean_s;
     measured_travel_strokes_ = strokes;
+    travel_timed_ = true;
   }
+  // What has been measured, to keep with the material dosed.
+  ValveTimingLearning learned() const;
+  // What earlier doses of a material measured (checked by sane()). A material with nothing measured
+  // keeps what the valve has shown so far: the valve is the same whatever flows through it. The
+  // travel the feedback timed since the start is newer than any stored one, and stands.
+  void restore(const ValveTimingLearning& learned);
   // At the open command: the timing of the dose that begins, from what has been learned so far.
   void start_dose();
   const DoseValveTiming<Scalar>& in_use() const { return in_use_; }
@@ -68,6 +77,7 @@ class BasicLearnedValveTiming {
   std::uint32_t dead_time_doses_ = 0;
   Scalar measured_travel_s_ = Scalar(0);
   std::uint32_t measured_travel_strokes_ = 0;
+  bool travel_timed_ = false;  // by the feedback since configure(), not restored
   DoseValveTiming<Scalar> in_use_{};
 };
 

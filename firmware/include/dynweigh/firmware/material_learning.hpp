@@ -9,9 +9,11 @@
 //   of the flow at the close, as the measured closes' finals showed it (the timing in use's
 //   let-through plus what the final came out above the model's prediction). It holds whatever
 //   the valve's timing in use is, datasheet or learned.
+// With them, the valve's timing as the doses of this material measured it (valve_timing_learning.hpp).
 #include <cstdint>
 
 #include "dynweigh/firmware/two_parameter_rls.hpp"
+#include "dynweigh/firmware/valve_timing_learning.hpp"
 
 namespace dynweigh::firmware {
 
@@ -19,7 +21,8 @@ struct MaterialLearning {
   TwoParameterRls::State open_time_law{};  // fills == 0: nothing learned
   float close_let_through_s = 0.0f;
   std::uint16_t residual_fills = 0;
-  bool empty() const { return open_time_law.fills == 0 && residual_fills == 0; }
+  ValveTimingLearning valve{};
+  bool empty() const { return open_time_law.fills == 0 && residual_fills == 0 && valve.empty(); }
 };
 
 }  // namespace dynweigh::firmware

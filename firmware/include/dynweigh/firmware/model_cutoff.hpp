@@ -22,7 +22,16 @@ class BasicModelCutoff {
  public:
   void configure(const Parameters& parameters);
   // What earlier fills of the material about to be dosed taught (nothing learned: the prior).
-  void restore(const MaterialLearning& learned) { law_.restore(learned); }
+  void restore(const MaterialLearning& learned) {
+    law_.restore(learned);
+    valve_.restore(learned.valve);
+  }
+  // What this material's fills have taught so far, the valve's timing with it.
+  MaterialLearning learned() const {
+    MaterialLearning l = law_.learned();
+    l.valve = valve_.learned();
+    return l;
+  }
   // Called at the jiffy the valve is commanded open; weights are net grams on the scale.
   void start(Scalar start_weight_g);
   // One unfiltered sample per jiffy; returns the predicted final fill (grams added by this dose)

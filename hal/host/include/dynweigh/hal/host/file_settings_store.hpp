@@ -13,8 +13,9 @@ namespace dynweigh::hal::host {
 // The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
 // fewer kept), then the materials' totalizers' two slots. A file of an older version is grown: the
 // settings alone (kSettingsOnlyFileBytes), version-5 settings and the logbook (kVersion5FileBytes), or
-// version-6 or version-7 settings, the logbook and the totalizers (kVersion6FileBytes,
-// kVersion7FileBytes), whose logbook and totalizers are moved behind today's larger settings slots;
+// version-6, version-7 or version-8 settings, the logbook and the totalizers (kVersion6FileBytes,
+// kVersion7FileBytes, kVersion8FileBytes), whose logbook and totalizers are moved behind today's
+// larger settings slots;
 // its settings load as they are.
 inline constexpr std::size_t kFileLogbookSlots = 1001;
 inline constexpr std::size_t kFileLogbookOffset = firmware::kSettingsSlotsBytes;
@@ -30,6 +31,9 @@ inline constexpr std::size_t kVersion6FileBytes = kVersion6SettingsBytes + kNvmF
 inline constexpr std::size_t kVersion7SettingsBytes =
     firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV7);
 inline constexpr std::size_t kVersion7FileBytes = kVersion7SettingsBytes + kNvmFileBytes - kFileLogbookOffset;
+inline constexpr std::size_t kVersion8SettingsBytes =
+    firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV8);
+inline constexpr std::size_t kVersion8FileBytes = kVersion8SettingsBytes + kNvmFileBytes - kFileLogbookOffset;
 
 // The file as a byte-addressed memory of kNvmFileBytes; bytes never written read as erased (0xFF).
 class FileNvm final : public firmware::NvmBlock {
