@@ -403,3 +403,28 @@ TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
 
 }  // namespace
 }  // namespace dynweigh::testing
+
+namespace dynweigh::testing {
+namespace {
+
+// A wide bore (about 5 kg/s) behind a slow gate (300 ms stroke) with 1.2 m of fall: the 500 g fills
+// close with the gate half open, where the fill grows faster than linearly with the open time. The
+// open-time law they teach, carried to 2 kg, would time a close too late; closed where the law's
+// reach ends, the first 2 kg fill ends short and its top-up finishes it.
+TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
+  sim::Scene scene = sim::default_scene();
+  scene.silo.bore_m = 0.080;
+  scene.valve.full_stroke_s = 0.300;
+  scene.silo.fluctuation_rms = 0.01;
+  PersistentSettings settings = commissioned(scene);
+  fills(scene, settings, 500, 2);
+  const float longest_s = settings.materials.at(0).learned.law_longest_open_s;
+  EXPECT_GT(longest_s, 0.0f);
+  EXPECT_EQ(after_power_cut(settings).materials.at(0).learned.law_longest_open_s, longest_s);
+  const std::vector<double> errors = fills(scene, settings, 2000, 1);
+  std::printf("law taught to %.0f ms on 500 g, first 2 kg fill %+.1f g\n", 1000.0 * longest_s, errors[0]);
+  EXPECT_LE(std::abs(errors[0]), x1_limit_g(2000.0));
+}
+
+}  // namespace
+}  // namespace dynweigh::testing

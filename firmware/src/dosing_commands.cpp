@@ -89,6 +89,8 @@ void write_learned(Console& console, std::size_t material, const MaterialLearnin
   write_estimate(console, "let_through_ms", learned.residual_fills > 0, 1000.0f * learned.close_let_through_s, 1);
   console.write(" let_through_fills=");
   console.write_int(learned.residual_fills);
+  write_estimate(console, "law_longest_ms", law_known && learned.law_longest_open_s > 0.0f,
+                 1000.0f * learned.law_longest_open_s, 0);
   console.put('\n');
 }
 

@@ -109,6 +109,10 @@ bool DosingCycle::decide_model(float net_weight_g) {
     return false;
   }
   const float earliest = model_.earliest_close_fraction();
+  if (model_.beyond_the_law() && earliest <= 0.0f) {
+    model_.closed(0.0f);
+    return true;
+  }
   if (!subjiffy_) {
     // On the jiffy grid, close at the jiffy whose half-way point the prediction crosses.
     const bool close = earliest <= 0.0f && last_prediction_g_ + 0.5f * growth >= aim;

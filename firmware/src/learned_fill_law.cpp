@@ -23,6 +23,8 @@ constexpr float kRefinementStepS = 0.02f;
 // The let-through learned is used once it is clearly off the timing in use: by more than the
 // scatter that a mean of a few fills keeps (a flow fluctuating 3 %: ~5 ms).
 constexpr float kLetThroughDeadbandS = 0.01f;
+// No dose is open for an hour.
+constexpr float kLongestOpenS = 3600.0f;
 // No valve lets a second of its flow through.
 constexpr float kLetThroughLimitS = 1.0f;
 }  // namespace
@@ -42,6 +44,10 @@ void LearnedFillLaw::restore(const MaterialLearning& learned) {
   configure(prior_flow_g_s_, prior_lag_s_);
   if (learned.open_time_law.fills > 0 && law_.restore(learned.open_time_law)) {
     learned_.open_time_law = learned.open_time_law;
+  }
+  if (learned_.open_time_law.fills > 0 && learned.law_longest_open_s > 0.0f &&
+      learned.law_longest_open_s < kLongestOpenS) {
+    learned_.law_longest_open_s = learned.law_longest_open_s;
   }
   if (learned.residual_fills > 0 && std::fabs(learned.close_let_through_s) <= kLetThroughLimitS) {
     learned_.close_let_through_s = learned.close_let_through_s;
@@ -72,6 +78,7 @@ void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
     return;
   }
   learned_.open_time_law = law_.state();
+  learned_.law_longest_open_s = std::fmax(learned_.law_longest_open_s, open_s);
 }
 
 // What this close showed the valve to let through (the let-through its prediction used, and what the

@@ -6,6 +6,15 @@ namespace dynweigh::firmware {
 namespace {
 template <typename Scalar>
 constexpr Scalar kSmallestOpening = Scalar(0.25);  // of the stroke
+// How far the open-time law is trusted beyond the longest open time it was taught at. Below a full
+// stroke and the flow's start-up the fill grows faster than linearly with the open time, so a law
+// taught on short closes, carried further, predicts too little and the close comes late: an
+// overdose no top-up can take back. Closed at its reach, the fill ends short, a top-up finishes it,
+// and the law is taught a longer open time for the next fill.
+template <typename Scalar>
+constexpr Scalar kLawReach = Scalar(1.5);
+template <typename Scalar>
+constexpr Scalar kLawReachS = Scalar(0.05);
 // The material is unknown until it flows: Beverloo's constants for a typical free-flowing sand
 // (docs/physics.md, Beverloo) give the prior; the measured flow replaces it after the first impact.
 template <typename Scalar>
@@ -94,6 +103,12 @@ Scalar BasicModelCutoff<Scalar>::earliest_close_fraction() const {
   const DoseValveTiming<Scalar>& t = valve_.in_use();
   const Scalar earliest_s = t.dead_s + kSmallestOpening<Scalar> * t.stroke_s;
   return earliest_s / jiffy_s_ - Scalar(estimator_.jiffies() - 1);
+}
+
+template <typename Scalar>
+bool BasicModelCutoff<Scalar>::beyond_the_law() const {
+  const Scalar longest_s = Scalar(law_.longest_open_s());
+  return timed_by_law_ && longest_s > Scalar(0) && open_s() + jiffy_s_ > kLawReach<Scalar> * longest_s + kLawReachS<Scalar>;
 }
 
 template <typename Scalar>

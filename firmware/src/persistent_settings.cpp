@@ -153,7 +153,8 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     put_material_learning(e + kMaterialEntryBytesV6, m.learned);
     put_pulse_law(e + kMaterialEntryBytesV7, m.pulses.full);
     put_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes, m.pulses.half);
-    put_valve_timing(e + kMaterialEntryBytesV8, m.learned.valve);
+    put_f32(e + kMaterialEntryBytesV8, m.learned.law_longest_open_s);
+    put_valve_timing(e + kMaterialEntryBytesV8 + 4, m.learned.valve);
   }
 }
 
@@ -180,7 +181,10 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
       m.pulses.full = get_pulse_law(e + kMaterialEntryBytesV7);
       m.pulses.half = get_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes);
     }
-    if (materials == MaterialsInRecord::valve) m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8);
+    if (materials == MaterialsInRecord::valve) {
+      m.learned.law_longest_open_s = get_f32(e + kMaterialEntryBytesV8);
+      m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8 + 4);
+    }
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;

@@ -4,7 +4,8 @@
 // - the open-time law, final = theta1 t + theta2 with t the valve's open time (command to command):
 //   theta1 is the material's full flow through this bore in g/s, theta2 what the valve's dead time,
 //   the flow's start-up and the let-through at the close add to it. Every fill closed from full open
-//   is a point on it; a fill that closes before its stream can be weighed is timed by it.
+//   is a point on it; a fill that closes before its stream can be weighed is timed by it, up to a
+//   reach beyond the longest open time it was taught at (docs/strategies.md).
 // - the measured close's let-through: what the valve let through after the close command, in seconds
 //   of the flow at the close, as the measured closes' finals showed it (the timing in use's
 //   let-through plus what the final came out above the model's prediction). It holds whatever
@@ -21,6 +22,7 @@ struct MaterialLearning {
   TwoParameterRls::State open_time_law{};  // fills == 0: nothing learned
   float close_let_through_s = 0.0f;
   std::uint16_t residual_fills = 0;
+  float law_longest_open_s = 0.0f;  // the longest open time the law was taught at (0: none known)
   ValveTimingLearning valve{};
   bool empty() const { return open_time_law.fills == 0 && residual_fills == 0 && valve.empty(); }
 };

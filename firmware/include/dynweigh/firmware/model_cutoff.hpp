@@ -43,6 +43,9 @@ class BasicModelCutoff {
   // opened a quarter of its stroke (a fill closed sooner delivers next to nothing and teaches
   // nothing). Above 1: not in the coming jiffy.
   Scalar earliest_close_fraction() const;
+  // The open-time law times this close, and the coming jiffy takes the open time further beyond
+  // the longest the law was taught at than the law can be trusted to reach.
+  bool beyond_the_law() const;
   // The close was commanded `fraction` of a jiffy after the last observed sample.
   void closed(Scalar fraction);
   // The dose closed by closed() was certified at `final_g`: what it teaches this material.
@@ -71,6 +74,9 @@ class BasicModelCutoff {
   Scalar half_flow_ratio() const { return valve_.in_use().half_flow_ratio; }
 
  private:
+  // From the open command to the newest sample.
+  Scalar open_s() const { return Scalar(estimator_.jiffies() - 1) * jiffy_s_; }
+
   Scalar jiffy_s_ = Scalar(0.01);
   BasicLearnedValveTiming<Scalar> valve_;
   BasicDoseEstimator<Scalar> estimator_;

@@ -44,15 +44,15 @@ inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + k
 // measured: the open-time law, the measured close's let-through f32, its fills u16, 2 bytes pad;
 // from version 8 on, what its top-up pulses taught: for full open, then half open, the law (as the
 // open-time law), the prior flow and the travel (f32 each), the pulses u8, 3 bytes pad; from version
-// 9 on, the valve's timing its doses measured: dead time f32, travel f32, dead-time doses u16,
-// strokes u16.
+// 9 on, the longest open time the open-time law was taught at f32, and the valve's timing its doses
+// measured: dead time f32, travel f32, dead-time doses u16, strokes u16.
 inline constexpr std::size_t kMaterialEntryBytesV6 = 4 + Material::kNameBytes + 4 + 4;
 inline constexpr std::size_t kMaterialLearningBytes = kRlsStateBytes + 8;
 inline constexpr std::size_t kMaterialEntryBytesV7 = kMaterialEntryBytesV6 + kMaterialLearningBytes;
 inline constexpr std::size_t kPulseLawLearningBytes = kRlsStateBytes + 4 + 4 + 4;
 inline constexpr std::size_t kMaterialEntryBytesV8 = kMaterialEntryBytesV7 + 2 * kPulseLawLearningBytes;
 inline constexpr std::size_t kValveTimingLearningBytes = 4 + 4 + 2 + 2;
-inline constexpr std::size_t kMaterialEntryBytes = kMaterialEntryBytesV8 + kValveTimingLearningBytes;
+inline constexpr std::size_t kMaterialEntryBytes = kMaterialEntryBytesV8 + 4 + kValveTimingLearningBytes;
 constexpr std::size_t material_table_bytes(std::size_t entry_bytes) {
   return 4 + entry_bytes * MaterialTable::kMaterials;
 }
