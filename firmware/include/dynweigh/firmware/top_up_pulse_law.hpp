@@ -32,8 +32,8 @@ class TopUpPulseLaw {
     float seconds = 0.0f;
     float expected_g = 0.0f;
   };
-  static constexpr float kFirstAim = 0.6f;    // share of the deficit, before any pulse was seen
-  static constexpr float kLaterAim = 0.85f;   // at most, once the law has seen one
+  static constexpr float kFirstAim = 0.8f;    // share of the deficit, before any pulse was seen
+  static constexpr float kLaterAim = 0.95f;   // at most, once the law has seen one
   static constexpr float kLeastAim = 0.5f;    // at least, however unsure the law
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
 
