@@ -124,12 +124,19 @@ TEST(MaterialLearning, TheValvesMeasuredTimingSurvivesARestart) {
   EXPECT_NEAR(stroke_used_ms, 250.0, 30.0);
 }
 
+// The default scene through an 80 mm bore: about 5 kg/s, so that 500 g closes before its stream
+// has landed.
+sim::Scene wide_bore_scene() {
+  sim::Scene scene = sim::default_scene();
+  scene.silo.bore_m = 0.080;
+  return scene;
+}
+
 // 500 g on a wide bore (about 5 kg/s) with 1.2 m of fall: more is in flight than the target, so the
 // close comes before the stream has landed. The first two fills, on the prior, aim short and are
 // topped up; the open-time law their closes teach times the later ones.
 TEST(MaterialLearning, BlindSmallTargetWithinX1ByTheFourthFill) {
-  sim::Scene scene = sim::default_scene();
-  scene.silo.bore_m = 0.080;
+  sim::Scene scene = wide_bore_scene();
   PersistentSettings settings = commissioned(scene);
   settings.parameters.set(ParameterId::density, float(scene.silo.bulk_density * 1.3));
   const std::vector<double> errors = fills(scene, settings, 500, 5);
@@ -402,19 +409,12 @@ TEST(MaterialLearningRecord, AnOlderNvmFileKeepsItsSettingsLogbookAndTotals) {
   }
 }
 
-}  // namespace
-}  // namespace dynweigh::testing
-
-namespace dynweigh::testing {
-namespace {
-
 // A wide bore (about 5 kg/s) behind a slow gate (300 ms stroke) with 1.2 m of fall: the 500 g fills
 // close with the gate half open, where the fill grows faster than linearly with the open time. The
 // open-time law they teach, carried to 2 kg, would time a close too late; closed where the law's
 // reach ends, the first 2 kg fill ends short and its top-up finishes it.
 TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
-  sim::Scene scene = sim::default_scene();
-  scene.silo.bore_m = 0.080;
+  sim::Scene scene = wide_bore_scene();
   scene.valve.full_stroke_s = 0.300;
   scene.silo.fluctuation_rms = 0.01;
   PersistentSettings settings = commissioned(scene);
@@ -427,19 +427,12 @@ TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
   EXPECT_LE(std::abs(errors[0]), x1_limit_g(2000.0));
 }
 
-}  // namespace
-}  // namespace dynweigh::testing
-
-namespace dynweigh::testing {
-namespace {
-
 // 500 g on a 5 kg/s stream that fluctuates 4 % rms: every close comes before the stream can be
 // weighed, timed by the open-time law from the third fill on (14 fills). The law knows the mean fill, not
 // this one's flow: the plan keeps aiming short of the target and topping up rather than trusting
 // it to the class's limit.
 TEST(MaterialLearning, LawTimedSmallFillsOfAFluctuatingStreamStayWithinX1) {
-  sim::Scene scene = sim::default_scene();
-  scene.silo.bore_m = 0.080;
+  sim::Scene scene = wide_bore_scene();
   scene.silo.fluctuation_rms = 0.04;
   PersistentSettings settings = commissioned(scene);
   const std::vector<double> errors = fills(scene, settings, 500, 14);

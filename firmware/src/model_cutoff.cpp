@@ -67,9 +67,7 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   estimator_.track_flow(net_weight_g, predictor_.impact_speed_m_s());
   timed_by_law_ = !estimator_.measuring() && !predictor_.fine_feeding() && law_.knows_open_time_law();
   if (timed_by_law_) {
-    // The sample of the n-th jiffy shows n - 1 jiffies of the valve's being open.
-    const Scalar open_s = Scalar(estimator_.jiffies() - 1) * jiffy_s_;
-    model_prediction_g_ = Scalar(law_.final_at_open_g(float(open_s)));
+    model_prediction_g_ = Scalar(law_.final_at_open_g(float(open_s())));
     return model_prediction_g_;
   }
   if (!estimator_.measuring()) {

@@ -74,7 +74,8 @@ class BasicModelCutoff {
   Scalar half_flow_ratio() const { return valve_.in_use().half_flow_ratio; }
 
  private:
-  // From the open command to the newest sample.
+  // From the open command to the newest sample: the sample of the n-th jiffy shows n - 1 jiffies
+  // of the valve's being open.
   Scalar open_s() const { return Scalar(estimator_.jiffies() - 1) * jiffy_s_; }
 
   Scalar jiffy_s_ = Scalar(0.01);
