@@ -12,8 +12,9 @@
 //    transmit ring holds; the valve delay byte stays within the 0..99 of docs/can-protocol.md;
 //  - never more answers (`OK` or `ERR ...`) than command lines, and once the indicator is idle
 //    again after the input, exactly one answer per command line;
-//  - with `param echo 1`, what precedes a jiffy's answers is exactly the echo of what was typed
-//    (the line reader's rules: characters, "\b \b" for an erasure, one newline a line end).
+//  - with `param echo 1`, a jiffy's text holds exactly the echo of what was typed (the line
+//    reader's rules: characters, "\b \b" for an erasure, one newline a line end), after no more
+//    than whole answer lines a save released and before this jiffy's answers.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -102,29 +103,36 @@ class FuzzConsole final : public hal::ConsolePort {
   void write(const char* data, std::size_t length) override {
     written_this_jiffy_ += length;
     if (written_this_jiffy_ > firmware::TextWriter::kCapacity) violated("a jiffy sent more than the ring holds", jiffy_);
-    for (std::size_t i = 0; i < length; ++i) {
-      const char c = data[i];
-      // A whole answer line may come before this jiffy's echo: the answer of a command that waited
-      // for its settings to be saved is written at the start of the next jiffy, ahead of the echo.
-      const bool answer = answer_line_open_ || echo_expected_.empty() ||
-                          (c != echo_expected_.front() && at_line_start_);
-      if (answer) {
-        observe_answer(c);
-        answer_line_open_ = !echo_expected_.empty() && c != '\n';
-      } else {
-        if (c != echo_expected_.front()) violated("the echo differs from what was typed", jiffy_);
-        echo_expected_.erase(0, 1);
-      }
-      at_line_start_ = c == '\n';
-    }
+    sent_this_jiffy_.append(data, length);
   }
   void start_jiffy() {
-    if (!echo_expected_.empty()) violated("an echo of what was typed is missing", jiffy_);
     written_this_jiffy_ = 0;
+    sent_this_jiffy_.clear();
     result_this_jiffy_ = false;
+  }
+  // A jiffy sends the answers its last save released (whole lines), the echo of what it received,
+  // then the answers of this jiffy's commands. A released `OK` may begin with the same letter as
+  // the echo, so the echo is looked for at each line start rather than at the first byte that fits.
+  void end_jiffy() {
+    const std::size_t echo_at = echo_position();
+    for (std::size_t i = 0; i < echo_at; ++i) observe_answer(sent_this_jiffy_[i]);
+    for (std::size_t i = echo_at + echo_expected_.size(); i < sent_this_jiffy_.size(); ++i) {
+      observe_answer(sent_this_jiffy_[i]);
+    }
+    echo_expected_.clear();
   }
 
  private:
+  std::size_t echo_position() const {
+    if (echo_expected_.empty()) return 0;
+    for (std::size_t line_start = 0;;) {
+      if (sent_this_jiffy_.compare(line_start, echo_expected_.size(), echo_expected_) == 0) return line_start;
+      const std::size_t line_end = sent_this_jiffy_.find('\n', line_start);
+      if (line_end == std::string::npos) violated("the echo differs from what was typed", jiffy_);
+      line_start = line_end + 1;
+    }
+  }
+
   // The same line rules the firmware applies (docs/console.md), to know which lines are commands.
   void observe_sent(char c) {
     const firmware::ConsoleLineReader::Event event = mirror_.feed(c);
@@ -166,9 +174,8 @@ class FuzzConsole final : public hal::ConsolePort {
   std::size_t position_ = 0;
   bool indicator_busy_ = false;
   bool echo_ = false;
-  std::string echo_expected_;  // echoed bytes still to come in this jiffy
-  bool at_line_start_ = true;     // the last byte written ended a line
-  bool answer_line_open_ = false;  // an answer line is being written ahead of the echo
+  std::string echo_expected_;     // the echo of this jiffy's received bytes
+  std::string sent_this_jiffy_;  // everything the indicator wrote in this jiffy
   std::uint32_t jiffy_ = 0;
   firmware::ConsoleLineReader mirror_;
   std::size_t command_lines_ = 0;
@@ -239,6 +246,7 @@ void play(const std::uint8_t* data, std::size_t size, bool paced) {
     console.set_echo(indicator->settings().parameters.get(firmware::ParameterId::echo) != 0.0f);
     console.start_jiffy();
     const firmware::Outputs out = hal::run_one_jiffy(*indicator, ports, jiffy).outputs;
+    console.end_jiffy();
     busy = out.busy;
     if (console.result_this_jiffy()) console.valve_closed_for_good();
     if (indicator->fault() != firmware::Fault::none) {
