@@ -13,8 +13,8 @@
 //  - never more answers (`OK` or `ERR ...`) than command lines, and once the indicator is idle
 //    again after the input, exactly one answer per command line;
 //  - with `param echo 1`, a jiffy's text holds exactly the echo of what was typed (the line
-//    reader's rules: characters, "\b \b" for an erasure, one newline a line end), after no more
-//    than whole answer lines a save released and before this jiffy's answers.
+//    reader's rules: characters, "\b \b" for an erasure, one newline a line end), with nothing but
+//    whole answer lines at line starts before it, within it and after it.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -22,6 +22,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "dynweigh/firmware/indicator.hpp"
 #include "dynweigh/firmware/settings_slots.hpp"
@@ -110,27 +111,39 @@ class FuzzConsole final : public hal::ConsolePort {
     sent_this_jiffy_.clear();
     result_this_jiffy_ = false;
   }
-  // A jiffy sends the answers its last save released (whole lines), the echo of what it received,
-  // then the answers of this jiffy's commands. A released `OK` may begin with the same letter as
-  // the echo, so the echo is looked for at each line start rather than at the first byte that fits.
+  // A jiffy's text is the echo of what it received with whole answer lines at line starts: before
+  // it, those its last save released; within it, `ERR 3 busy` right after the echo of a line the
+  // queue had no room for; after it, those of this jiffy's commands. An answer may begin like the
+  // echo (a released `OK` and a typed `O`), so the split is searched, not guessed.
   void end_jiffy() {
-    const std::size_t echo_at = echo_position();
-    for (std::size_t i = 0; i < echo_at; ++i) observe_answer(sent_this_jiffy_[i]);
-    for (std::size_t i = echo_at + echo_expected_.size(); i < sent_this_jiffy_.size(); ++i) {
-      observe_answer(sent_this_jiffy_[i]);
+    echo_byte_.assign(sent_this_jiffy_.size(), false);
+    no_split_.assign((sent_this_jiffy_.size() + 1) * (echo_expected_.size() + 1), false);
+    if (!split(0, 0)) violated("the echo differs from what was typed", jiffy_);
+    for (std::size_t i = 0; i < sent_this_jiffy_.size(); ++i) {
+      if (!echo_byte_[i]) observe_answer(sent_this_jiffy_[i]);
     }
     echo_expected_.clear();
   }
 
  private:
-  std::size_t echo_position() const {
-    if (echo_expected_.empty()) return 0;
-    for (std::size_t line_start = 0;;) {
-      if (sent_this_jiffy_.compare(line_start, echo_expected_.size(), echo_expected_) == 0) return line_start;
-      const std::size_t line_end = sent_this_jiffy_.find('\n', line_start);
-      if (line_end == std::string::npos) violated("the echo differs from what was typed", jiffy_);
-      line_start = line_end + 1;
+  // Whether the text from `sent` on holds the echo from `echoed` on, answer lines only at line
+  // starts; marks the echo's bytes on the way back.
+  bool split(std::size_t sent, std::size_t echoed) {
+    const std::string& text = sent_this_jiffy_;
+    if (echoed == echo_expected_.size()) return true;
+    if (sent == text.size()) return false;
+    const std::size_t state = sent * (echo_expected_.size() + 1) + echoed;
+    if (no_split_[state]) return false;
+    if (text[sent] == echo_expected_[echoed] && split(sent + 1, echoed + 1)) {
+      echo_byte_[sent] = true;
+      return true;
     }
+    const bool line_start = sent == 0 || text[sent - 1] == '\n';
+    const bool answer = text.compare(sent, 2, "OK") == 0 || text.compare(sent, 3, "ERR") == 0;
+    const std::size_t line_end = text.find('\n', sent);
+    if (line_start && answer && line_end != std::string::npos && split(line_end + 1, echoed)) return true;
+    no_split_[state] = true;
+    return false;
   }
 
   // The same line rules the firmware applies (docs/console.md), to know which lines are commands.
@@ -176,6 +189,8 @@ class FuzzConsole final : public hal::ConsolePort {
   bool echo_ = false;
   std::string echo_expected_;     // the echo of this jiffy's received bytes
   std::string sent_this_jiffy_;  // everything the indicator wrote in this jiffy
+  std::vector<bool> echo_byte_;  // which of its bytes are the echo
+  std::vector<bool> no_split_;   // (text, echo) positions known not to split
   std::uint32_t jiffy_ = 0;
   firmware::ConsoleLineReader mirror_;
   std::size_t command_lines_ = 0;
