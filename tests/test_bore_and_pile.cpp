@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dynweigh/model/bore_area.hpp"
+#include "dynweigh/model/gate_flow_shape.hpp"
 #include "dynweigh/model/pile_geometry.hpp"
 #include "dynweigh/model/valve_let_through.hpp"
 
@@ -24,6 +25,42 @@ TEST(ValveLetThrough, InstantValveLetsNothingThroughAndDeadTimeCountsFully) {
   const double stroking = closing_flow_seconds(sand, 9.81, 0.06, 0.0, 0.08);
   EXPECT_GT(stroking, 0.0);
   EXPECT_LT(stroking, 0.04);  // Beverloo falls faster than the area: less than half the stroke
+}
+
+// Coarse grains (6 mm of arching) through a 60 mm bore: no flow until the slit is wider than the
+// arches, then a flow that grows much faster than the stroke. The table holds Beverloo's flow at its
+// knots and its integral along the stroke to a fine midpoint rule's; the inverse finds the stroke.
+TEST(GateFlowShape, IsBeverloosFlowAndItsIntegralAlongTheStroke) {
+  const BeverlooMaterial<double> gravel{0.58, 1.5, 0.004, 1500.0};
+  const double g = 9.81, bore_m = 0.06;
+  const GateFlowShape<double> shape = gate_flow_shape(gravel, g, bore_m);
+  const double full = discharge_at_stroke_kg_s(gravel, g, bore_m, 1.0);
+  const auto share = [&](double stroke) { return discharge_at_stroke_kg_s(gravel, g, bore_m, stroke) / full; };
+  EXPECT_NEAR(shape.flow_at(1.0), 1.0, 1e-12);
+  EXPECT_NEAR(shape.flow_at(0.5), share(0.5), 1e-12);
+  EXPECT_DOUBLE_EQ(shape.flow_at(0.0), 0.0);
+  for (double stroke : {0.25, 0.5, 0.8, 1.0}) {
+    constexpr int kSteps = 20000;
+    double integral = 0.0;
+    for (int i = 0; i < kSteps; ++i) integral += share((i + 0.5) * stroke / kSteps) * stroke / kSteps;
+    EXPECT_NEAR(shape.integral_to(stroke), integral, 2e-3) << "stroke " << stroke;
+    EXPECT_NEAR(shape.stroke_for_integral(shape.integral_to(stroke)), stroke, 1e-9) << "stroke " << stroke;
+  }
+  // Less than a flow in proportion to the stroke gives (its square over two), and far less over a
+  // short stroke: what a short pulse delivers.
+  EXPECT_LT(shape.integral_to(1.0), 0.45);
+  EXPECT_LT(shape.integral_to(0.25), 0.5 * (0.25 * 0.25 / 2.0));
+}
+
+// A bore the grains arch over lets nothing through at any stroke: the shape falls back to a flow in
+// proportion to the stroke, whose integral is the stroke's square over two.
+TEST(GateFlowShape, ABoreThatArchesOverIsTakenAsProportional) {
+  const BeverlooMaterial<double> gravel{0.58, 1.5, 0.004, 1500.0};
+  const GateFlowShape<double> shape = gate_flow_shape(gravel, 9.81, 0.005);
+  for (double stroke : {0.0, 0.25, 0.5, 1.0}) {
+    EXPECT_NEAR(shape.flow_at(stroke), stroke, 1e-12);
+    EXPECT_NEAR(shape.integral_to(stroke), stroke * stroke / 2.0, 1e-12);
+  }
 }
 
 TEST(PileGeometry, ConeThenCylinder) {

@@ -29,6 +29,7 @@ void BasicLearnedValveTiming<Scalar>::configure(const ValveDatasheet<Scalar>& da
   const Scalar full_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(1));
   const Scalar half_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(0.5));
   half_flow_ratio_ = full_rate > Scalar(0) ? half_rate / full_rate : Scalar(0.5);
+  gate_flow_shape_ = model::gate_flow_shape(material, g, bore_m);
   measured_travel_strokes_ = 0;
   travel_timed_ = false;
   use(datasheet.dead_s, datasheet.stroke_s);

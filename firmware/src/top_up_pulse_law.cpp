@@ -37,19 +37,41 @@ void TopUpPulseLaw::reset(Law& law, float flow_g_s, float travel_s) {
   law.rls.reset(flow_g_s, kLossPriorS * flow_g_s, kFlowSpread * flow_g_s, kLossSpreadS * flow_g_s);
 }
 
-void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s) {
+void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s,
+                          const model::GateFlowShape<float>& shape) {
   const float flow = full_flow_g_s > 0.0f ? full_flow_g_s : 0.0f;
   const float ratio = half_flow_ratio > 0.0f && half_flow_ratio <= 1.0f ? half_flow_ratio : 0.5f;
   const float stroke = stroke_s > 0.0f ? stroke_s : 0.0f;
   max_pulse_s_ = max_pulse_s;
+  shape_ = shape;
+  full_.end_stroke = 1.0f;
+  half_.end_stroke = 0.5f;
   chosen_ = false;
   if (full_.pulses == 0) reset(full_, flow, stroke);
   if (half_.pulses == 0) reset(half_, flow * ratio, 0.5f * stroke);
 }
 
-float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) {
-  if (pulse_s >= law.travel_s || law.travel_s <= 0.0f) return pulse_s;
-  return pulse_s * pulse_s / law.travel_s;
+// What flows while the gate opens to `stroke` and closes again, in seconds of the flow at the law's
+// position.
+float TopUpPulseLaw::ramps_s(const Law& law, float stroke) const {
+  const float full_stroke_s = law.travel_s / law.end_stroke;
+  return 2.0f * full_stroke_s * shape_.integral_to(stroke) / shape_.flow_at(law.end_stroke);
+}
+
+float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) const {
+  if (law.travel_s <= 0.0f || !(shape_.flow_at(law.end_stroke) > 0.0f)) return pulse_s;
+  if (pulse_s >= law.travel_s) return pulse_s - law.travel_s + ramps_s(law, law.end_stroke);
+  return ramps_s(law, law.end_stroke * pulse_s / law.travel_s);
+}
+
+// open_seconds() inverted.
+float TopUpPulseLaw::pulse_seconds(const Law& law, float open_s) const {
+  const float end_flow = shape_.flow_at(law.end_stroke);
+  if (law.travel_s <= 0.0f || !(end_flow > 0.0f)) return open_s;
+  const float ramps = ramps_s(law, law.end_stroke);
+  if (open_s >= ramps) return open_s - ramps + law.travel_s;
+  const float full_stroke_s = law.travel_s / law.end_stroke;
+  return full_stroke_s * shape_.stroke_for_integral(open_s * end_flow / (2.0f * full_stroke_s));
 }
 
 void TopUpPulseLaw::observe(Law& law, float seconds, float delivered_g) {
@@ -117,13 +139,12 @@ float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {
   float open_s = q > 0.0f ? (mass_g + c) / q : 0.0f;
   const float short_slope = q - c / kLossBuildS;
   if (open_s < kLossBuildS && short_slope > 0.0f) open_s = mass_g / short_slope;
-  float seconds = open_s > 0.0f ? open_s : 0.0f;
-  if (seconds < law.travel_s && law.travel_s > 0.0f) seconds = std::sqrt(seconds * law.travel_s);
+  const float seconds = pulse_seconds(law, open_s > 0.0f ? open_s : 0.0f);
   return seconds < kShortestPulseS ? kShortestPulseS : (seconds > max_pulse_s_ ? max_pulse_s_ : seconds);
 }
 
 // The law's standard deviation of a pulse's mass, and the valve's jitter at its flow.
-float TopUpPulseLaw::spread_g(const Law& law, float seconds) {
+float TopUpPulseLaw::spread_g(const Law& law, float seconds) const {
   const TwoParameterRls::State& s = law.rls.state();
   const float x1 = open_seconds(law, seconds), x2 = loss_regressor(x1);
   const float variance = x1 * (s.p11 * x1 + s.p12 * x2) + x2 * (s.p12 * x1 + s.p22 * x2);

@@ -8,6 +8,7 @@
 
 #include "dynweigh/firmware/valve_timing_learning.hpp"
 #include "dynweigh/model/beverloo.hpp"
+#include "dynweigh/model/gate_flow_shape.hpp"
 
 namespace dynweigh::firmware {
 
@@ -63,6 +64,8 @@ class BasicLearnedValveTiming {
   // At the open command: the timing of the dose that begins, from what has been learned so far.
   void start_dose();
   const DoseValveTiming<Scalar>& in_use() const { return in_use_; }
+  // How the flow grows along the stroke, for pulses too short to open the gate fully.
+  const model::GateFlowShape<Scalar>& gate_flow_shape() const { return gate_flow_shape_; }
 
  private:
   void use(Scalar dead_s, Scalar stroke_s);
@@ -72,6 +75,7 @@ class BasicLearnedValveTiming {
   model::BeverlooMaterial<Scalar> material_{};
   Scalar bore_m_ = Scalar(0);
   Scalar half_flow_ratio_ = Scalar(0.5);
+  model::GateFlowShape<Scalar> gate_flow_shape_ = model::GateFlowShape<Scalar>::proportional();
   ValveDatasheet<Scalar> datasheet_{};
   Scalar measured_dead_s_ = Scalar(0);  // running mean over the last doses' first impacts
   std::uint32_t dead_time_doses_ = 0;

@@ -72,6 +72,7 @@ class BasicModelCutoff {
   void measured_valve_travel(Scalar mean_s, std::uint32_t strokes) { valve_.measured_travel(mean_s, strokes); }
   Scalar stroke_in_use_s_now() const { return valve_.in_use().stroke_s; }
   Scalar half_flow_ratio() const { return valve_.in_use().half_flow_ratio; }
+  const model::GateFlowShape<Scalar>& gate_flow_shape() const { return valve_.gate_flow_shape(); }
 
  private:
   // From the open command to the newest sample: the sample of the n-th jiffy shows n - 1 jiffies

@@ -1,10 +1,13 @@
 #pragma once
 // How long a top-up pulse opens the valve for the mass still missing. The valve reaches its
-// position `travel` after the dead time and closes at the same speed, so a pulse of T seconds lets
-// through about q T when it reaches the position (T >= travel) and q T^2 / travel when it does not
-// (a partial stroke); the dead time shifts the opening and the closing alike. The flow's start-up
-// and a valve slower than its datasheet take more off each pulse. The law is m = q e(T) - c, e(T)
-// the open time above, one law for full-open pulses and one for half-open ones. q starts from the
+// position `travel` after the dead time and closes at the same speed; the dead time shifts the
+// opening and the closing alike. A pulse of T seconds that reaches the position lets through about
+// q (T - travel) plus what flows while the gate moves; one that does not reach it lets through what
+// flows while the gate opens to T / travel of the way and closes again, which is far less than the
+// time suggests: the flow grows with the stroke much faster than in proportion (the shape from the
+// bore and Beverloo, model/gate_flow_shape.hpp). The flow's start-up and a valve slower than its
+// datasheet take more off each pulse. The law is m = q e(T) - c, e(T) the pulse's mass in seconds of
+// the flow at its position, one law for full-open pulses and one for half-open ones. q starts from the
 // flow the dose measured, c from zero; the dose itself (one long full-open pulse) and each pulse's
 // measured mass refine them (recursive least squares), so each pulse is sized from what the last did.
 // What pulses taught is this valve's and this material's answer to a short opening, whatever the
@@ -22,6 +25,7 @@
 #include "dynweigh/firmware/io.hpp"
 #include "dynweigh/firmware/top_up_pulse_learning.hpp"
 #include "dynweigh/firmware/two_parameter_rls.hpp"
+#include "dynweigh/model/gate_flow_shape.hpp"
 
 namespace dynweigh::firmware {
 
@@ -38,9 +42,10 @@ class TopUpPulseLaw {
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
 
   // A dose's full-open flow (grams per second), the share of it half open lets through, the
-  // valve's stroke (closed to full open), and the longest pulse allowed. A law pulses taught (in this
-  // dose, or earlier ones: restore()) is kept.
-  void begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s);
+  // valve's stroke (closed to full open), the longest pulse allowed, and how the flow grows along the
+  // stroke. A law pulses taught (in this dose, or earlier ones: restore()) is kept.
+  void begin(float full_flow_g_s, float half_flow_ratio, float stroke_s, float max_pulse_s,
+             const model::GateFlowShape<float>& shape = model::GateFlowShape<float>::proportional());
   // The dose as one long full-open pulse: `open_s` from the open command to the close,
   // `delivered_g` certified. The full-open law's first observation, unless pulses taught it.
   void observe_dose(float open_s, float delivered_g);
@@ -63,23 +68,27 @@ class TopUpPulseLaw {
     TwoParameterRls rls;
     float prior_flow_g_s = 0.0f;
     float travel_s = 0.0f;
+    float end_stroke = 1.0f;  // the gate's position: full or half open
     std::uint8_t seen = 0;
     std::uint8_t pulses = 0;  // of `seen`, the pulses (not the dose)
   };
   const Law& law(bool half) const { return half ? half_ : full_; }
   Law& law(bool half) { return half ? half_ : full_; }
   static void reset(Law& law, float flow_g_s, float travel_s);
+  float ramps_s(const Law& law, float stroke) const;
   static bool restore(Law& law, const PulseLawLearning& learned);
   static PulseLawLearning learned(const Law& law);
   void observe(Law& law, float seconds, float delivered_g);
-  static float open_seconds(const Law& law, float pulse_s);
+  float open_seconds(const Law& law, float pulse_s) const;
+  float pulse_seconds(const Law& law, float open_s) const;
   float seconds_for(const Law& law, float mass_g) const;
-  static float spread_g(const Law& law, float seconds);
+  float spread_g(const Law& law, float seconds) const;
   float aim_g(const Law& law, float deficit_g, bool last) const;
   void choose(float deficit_g);
 
   Law full_;
   Law half_;
+  model::GateFlowShape<float> shape_ = model::GateFlowShape<float>::proportional();
   float max_pulse_s_ = 1.0f;
   bool chosen_ = false;
   bool half_open_ = false;
