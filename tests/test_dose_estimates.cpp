@@ -21,7 +21,7 @@ Measured dose_and_estimate(sim::Scene scene, std::uint64_t seed, const std::stri
   c.idle(20);
   EXPECT_EQ(lines_of(c.run({dose})).size(), 2u) << dose;
   const auto lines = lines_of(c.run({"estimates"}));
-  EXPECT_EQ(lines.size(), 5u);  // ESTIMATES, what the material learned (LEARNED, VALVE), PLAN, OK
+  EXPECT_EQ(lines.size(), 6u);  // ESTIMATES, what the material learned (LEARNED, VALVE, PULSES), PLAN, OK
   EXPECT_EQ(lines.back(), "OK");
   Measured m;
   m.dead_ms = std::stod(field(lines.front(), "dead_ms"));

@@ -109,7 +109,7 @@ TEST(MaterialLearning, TheValvesMeasuredTimingSurvivesARestart) {
   ConsoleSession c(scene, 200, settings);
   c.idle(100);
   const auto learned = lines_of(c.run({"estimates"}));
-  ASSERT_EQ(learned.size(), 3u);
+  ASSERT_EQ(learned.size(), 4u);  // LEARNED, VALVE, PULSES, OK
   ASSERT_EQ(learned[1].rfind("VALVE material=0 ", 0), 0u) << learned[1];
   EXPECT_NEAR(std::stod(field(learned[1], "dead_ms")), 70.0, 12.0) << learned[1];
   EXPECT_EQ(field(learned[1], "dead_doses"), "2") << learned[1];
@@ -190,7 +190,7 @@ TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   ConsoleSession c(scene, 1, settings);
   // After a restart no dose has been measured, but what the material learned is told.
   const auto estimates = lines_of(c.run({"estimates"}));
-  ASSERT_EQ(estimates.size(), 3u);  // LEARNED, VALVE, OK
+  ASSERT_EQ(estimates.size(), 4u);  // LEARNED, VALVE, PULSES, OK
   EXPECT_EQ(estimates.front().rfind("LEARNED material=0 law_flow_kg_s=", 0), 0u) << estimates.front();
   EXPECT_NE(estimates.front().find(" law_fills=1 "), std::string::npos) << estimates.front();
   EXPECT_EQ(c.run({"learn reset"}), "OK\n");

@@ -166,6 +166,38 @@ TEST(TopUp, BlindTwoKilogramFillsOnTheDefaultSceneAreSteadyWithinX1) {
   EXPECT_LE(x, 1.0);
 }
 
+// What a dose's pulses taught is told by `estimates` (its PULSES line) as it is kept with the
+// material: the law's flow and loss and how many pulses taught it, `none` for an opening no pulse
+// used; `learn reset` forgets it.
+TEST(TopUp, EstimatesTellWhatThePulsesTaught) {
+  ConsoleSession c;
+  const Dose d = dose(c, 2000.0);
+  ASSERT_FALSE(d.result.empty());
+  ASSERT_NE(field(d.result, "topups"), "0") << d.result;
+  const auto pulses_line = [&c] {
+    for (const std::string& line : lines_of(c.run({"estimates"}))) {
+      if (line.rfind("PULSES ", 0) == 0) return line;
+    }
+    return std::string();
+  };
+  const std::string line = pulses_line();
+  ASSERT_EQ(line.rfind("PULSES material=0 full_flow_g_s=", 0), 0u) << line;
+  const firmware::TopUpPulseLearning& kept = c.session().indicator().settings().materials.at(0).pulses;
+  const bool half = kept.half.pulses > 0;
+  const firmware::PulseLawLearning& law = half ? kept.half : kept.full;
+  const std::string opening = half ? "half" : "full";
+  EXPECT_EQ(field(line, opening + "_pulses"), field(d.result, "topups")) << line;
+  EXPECT_NEAR(std::stod(field(line, opening + "_flow_g_s")), law.law.theta1, 0.1) << line;
+  EXPECT_NEAR(std::stod(field(line, opening + "_loss_g")), law.law.theta2, 0.1) << line;
+  const std::string other = half ? "full" : "half";
+  EXPECT_EQ(field(line, other + "_flow_g_s"), "none") << line;
+  EXPECT_EQ(field(line, other + "_pulses"), "0") << line;
+  EXPECT_EQ(c.run({"learn reset"}), "OK\n");
+  EXPECT_EQ(pulses_line(),
+            "PULSES material=0 full_flow_g_s=none full_loss_g=none full_pulses=0 half_flow_g_s=none "
+            "half_loss_g=none half_pulses=0");
+}
+
 // A preact close 900 g early at 2 kg with `tol_action topup`, 20 pulses of 150 ms allowed (360 g
 // each at full flow): the load cell freezes once the fill has landed, before its result. The frozen
 // reading says the fill is short for ever; at most one pulse may follow it, never pulse after pulse.

@@ -106,6 +106,27 @@ void write_valve_timing(Console& console, std::size_t material, const ValveTimin
   console.write_int(valve.travel_strokes);
   console.put('\n');
 }
+
+// What the selected material's top-up pulses taught, full and half open (kept with it across
+// restarts): the law m = q e - c's flow q and loss c, and how many pulses taught it.
+void write_pulse_laws(Console& console, std::size_t material, const TopUpPulseLearning& pulses) {
+  console.write("PULSES material=");
+  console.write_int(std::int64_t(material));
+  const struct {
+    const char* flow;
+    const char* loss;
+    const char* count;
+    const PulseLawLearning& law;
+  } laws[] = {{"full_flow_g_s", "full_loss_g", " full_pulses=", pulses.full},
+              {"half_flow_g_s", "half_loss_g", " half_pulses=", pulses.half}};
+  for (const auto& l : laws) {
+    write_estimate(console, l.flow, l.law.pulses > 0, l.law.law.theta1, 1);
+    write_estimate(console, l.loss, l.law.pulses > 0, l.law.law.theta2, 1);
+    console.write(l.count);
+    console.write_int(l.law.pulses);
+  }
+  console.put('\n');
+}
 }  // namespace
 
 void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
@@ -135,6 +156,7 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   }
   write_learned(console, materials.selected(), learned);
   write_valve_timing(console, materials.selected(), learned.valve);
+  write_pulse_laws(console, materials.selected(), materials.at(materials.selected()).pulses);
   if (model_dosed) {
     const PlanChoice plan = indicator.dosing_.plan();
     console.write("PLAN plan=");
