@@ -19,3 +19,15 @@ data[newest + 40] ^= 0xFF  # a bit-flipped parameter in the newest record
 open(path, "wb").write(data)
 PY
 printf 'param fall_mm\n' | "$bin/dynweigh-fw" --nvm "$work/nvm.bin" | grep -q 'fall_mm=1500'
+# A new file is as large as the docs say it is.
+printf '' | "$bin/dynweigh-fw" --nvm "$work/new.bin" >/dev/null
+size=$(stat -c %s "$work/new.bin")
+docs="$(dirname "$0")/../../docs"
+for quoted in "$(grep -o 'A new FILE is created at once ([0-9,]* bytes' "$docs/programs.md")" \
+              "$(grep -o 'the file is then [0-9,]* bytes' "$docs/console.md")"; do
+  said=$(printf '%s' "$quoted" | grep -o '[0-9][0-9,]*' | tr -d ,)
+  if [ "$said" != "$size" ]; then
+    echo "a new --nvm file has $size bytes; the docs say: '$quoted'" >&2
+    exit 1
+  fi
+done
