@@ -26,9 +26,6 @@ void BasicLearnedValveTiming<Scalar>::configure(const ValveDatasheet<Scalar>& da
   datasheet_ = datasheet;
   measured_dead_s_ = datasheet.dead_s;
   dead_time_doses_ = 0;
-  const Scalar full_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(1));
-  const Scalar half_rate = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(0.5));
-  half_flow_ratio_ = full_rate > Scalar(0) ? half_rate / full_rate : Scalar(0.5);
   gate_flow_shape_ = model::gate_flow_shape(material, g, bore_m);
   measured_travel_strokes_ = 0;
   travel_timed_ = false;
@@ -47,10 +44,10 @@ void BasicLearnedValveTiming<Scalar>::use(Scalar dead_s, Scalar stroke_s) {
   DoseValveTiming<Scalar>& t = in_use_;
   t.dead_s = dead_s;
   t.stroke_s = stroke_s;
-  t.half_flow_ratio = half_flow_ratio_;
+  t.half_flow_ratio = gate_flow_shape_.flow_at(Scalar(0.5));
   t.full_closing_flow_s = model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s);
   const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g, bore_m_, Scalar(1));
-  const Scalar half_rate = full_rate * half_flow_ratio_;
+  const Scalar half_rate = full_rate * t.half_flow_ratio;
   t.half_closing_flow_s =
       half_rate > Scalar(0)
           ? model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate

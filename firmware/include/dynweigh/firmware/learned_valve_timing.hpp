@@ -64,7 +64,8 @@ class BasicLearnedValveTiming {
   // At the open command: the timing of the dose that begins, from what has been learned so far.
   void start_dose();
   const DoseValveTiming<Scalar>& in_use() const { return in_use_; }
-  // How the flow grows along the stroke, for pulses too short to open the gate fully.
+  // How the flow grows along the stroke (its value at half stroke is the half-open flow's share),
+  // for pulses too short to open the gate fully.
   const model::GateFlowShape<Scalar>& gate_flow_shape() const { return gate_flow_shape_; }
 
  private:
@@ -74,7 +75,6 @@ class BasicLearnedValveTiming {
 
   model::BeverlooMaterial<Scalar> material_{};
   Scalar bore_m_ = Scalar(0);
-  Scalar half_flow_ratio_ = Scalar(0.5);
   model::GateFlowShape<Scalar> gate_flow_shape_ = model::GateFlowShape<Scalar>::proportional();
   ValveDatasheet<Scalar> datasheet_{};
   Scalar measured_dead_s_ = Scalar(0);  // running mean over the last doses' first impacts
