@@ -24,6 +24,15 @@ constexpr float kLongestTravelS = 10.0f;
 // The loss builds up over the flow's start-up: a pulse open for less than this loses in proportion.
 constexpr float kLossBuildS = 0.1f;
 
+// The travel a pulse may teach: between these shares of the datasheet's. A pulse moves the learned
+// one a share of the way to what it showed (its mass is uncertain by the flow's fluctuation and the
+// valve's jitter), in one step at most by this factor.
+constexpr float kTravelLow = 0.25f;
+constexpr float kTravelHigh = 4.0f;
+constexpr float kTravelGain = 0.3f;
+constexpr float kTravelStepFactor = 2.0f;
+constexpr int kTravelBisections = 10;
+
 float loss_regressor(float open_s) { return open_s < kLossBuildS ? -open_s / kLossBuildS : -1.0f; }
 }  // namespace
 
@@ -46,6 +55,8 @@ void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stro
   shape_ = shape;
   full_.end_stroke = 1.0f;
   half_.end_stroke = 0.5f;
+  full_.prior_travel_s = stroke;
+  half_.prior_travel_s = 0.5f * stroke;
   chosen_ = false;
   if (full_.pulses == 0) reset(full_, flow, stroke);
   if (half_.pulses == 0) reset(half_, flow * ratio, 0.5f * stroke);
@@ -127,9 +138,44 @@ void TopUpPulseLaw::observe_dose(float open_s, float delivered_g) {
   }
 }
 
+float TopUpPulseLaw::predicted_g(const Law& law, float seconds) const {
+  const float open_s = open_seconds(law, seconds);
+  return law.rls.predict(open_s, loss_regressor(open_s));
+}
+
+// The travel under which the law predicts `delivered_g` for this pulse, within the bounds. A
+// slower gate opens less in the same pulse, so the prediction falls as the travel grows: bisection.
+float TopUpPulseLaw::travel_explaining(const Law& law, float seconds, float delivered_g) const {
+  Law trial = law;
+  float slow = kTravelHigh * law.prior_travel_s, fast = kTravelLow * law.prior_travel_s;
+  trial.travel_s = slow;
+  if (predicted_g(trial, seconds) >= delivered_g) return slow;
+  trial.travel_s = fast;
+  if (predicted_g(trial, seconds) <= delivered_g) return fast;
+  for (int i = 0; i < kTravelBisections; ++i) {
+    trial.travel_s = std::sqrt(slow * fast);
+    (predicted_g(trial, seconds) > delivered_g ? fast : slow) = trial.travel_s;
+  }
+  return std::sqrt(slow * fast);
+}
+
+// Only a pulse that may have stopped short of the position teaches the travel: one shorter than the
+// travel learned so far, or one that delivered less than expected and is shorter than the slowest
+// travel allowed. A longer one hardly depends on it.
+void TopUpPulseLaw::learn_travel(Law& law, float seconds, float delivered_g) {
+  if (!(law.prior_travel_s > 0.0f) || !(law.travel_s > 0.0f) || !(delivered_g >= 0.0f)) return;
+  const bool short_of_travel = seconds < law.travel_s;
+  const bool less_than_expected = delivered_g < predicted_g(law, seconds) && seconds < kTravelHigh * law.prior_travel_s;
+  if (!short_of_travel && !less_than_expected) return;
+  const float ratio = travel_explaining(law, seconds, delivered_g) / law.travel_s;
+  const float step = std::pow(ratio, kTravelGain);
+  law.travel_s *= step > kTravelStepFactor ? kTravelStepFactor : (step < 1.0f / kTravelStepFactor ? 1.0f / kTravelStepFactor : step);
+}
+
 void TopUpPulseLaw::learn(const Pulse& pulse, float delivered_g) {
   Law& l = law(pulse.command == ValveCommand::half);
   observe(l, pulse.seconds, delivered_g);
+  learn_travel(l, pulse.seconds, delivered_g);
   if (l.pulses < 255) ++l.pulses;
 }
 

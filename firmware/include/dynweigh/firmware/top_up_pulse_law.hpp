@@ -14,6 +14,12 @@
 // target: it is kept with the material (top_up_pulse_learning.hpp) and the next dose's pulses start
 // from it instead of from the dose, whose long opening's start-up loss is no short pulse's. A
 // pulse's mass weighs as much as the last ten's (forgetting), so the law follows a silo running low.
+// A pulse shorter than the valve's travel opens the gate only part of the way, so what it lets
+// through depends on how fast the gate moves, and the datasheet's stroke is often far off (a valve
+// whose feedback never saw a full stroke, on a plant whose doses all close before the valve is
+// open). Each pulse that may not have opened fully also teaches the travel: the one under which
+// the law would have predicted what the pulse delivered, taken a share of the way (within a quarter
+// and four times the datasheet's), before q and c learn from the pulse under it.
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit: short of it, every such fill would end short by
@@ -61,13 +67,15 @@ class TopUpPulseLaw {
   float flow_g_s(bool half) const { return law(half).rls.state().theta1; }
   float start_loss_g(bool half) const { return law(half).rls.state().theta2; }
   std::uint8_t pulses_seen(bool half) const { return law(half).seen; }
+  float travel_s(bool half) const { return law(half).travel_s; }
   float expected_g(bool half, float seconds) const;
 
  private:
   struct Law {
     TwoParameterRls rls;
     float prior_flow_g_s = 0.0f;
-    float travel_s = 0.0f;
+    float travel_s = 0.0f;        // to the law's position: learned from pulses (learn_travel)
+    float prior_travel_s = 0.0f;  // the datasheet's or the feedback's: the learned one's bounds
     float end_stroke = 1.0f;  // the gate's position: full or half open
     std::uint8_t seen = 0;
     std::uint8_t pulses = 0;  // of `seen`, the pulses (not the dose)
@@ -79,6 +87,9 @@ class TopUpPulseLaw {
   static bool restore(Law& law, const PulseLawLearning& learned);
   static PulseLawLearning learned(const Law& law);
   void observe(Law& law, float seconds, float delivered_g);
+  float predicted_g(const Law& law, float seconds) const;
+  float travel_explaining(const Law& law, float seconds, float delivered_g) const;
+  void learn_travel(Law& law, float seconds, float delivered_g);
   float open_seconds(const Law& law, float pulse_s) const;
   float pulse_seconds(const Law& law, float open_s) const;
   float seconds_for(const Law& law, float mass_g) const;
