@@ -191,13 +191,15 @@ TEST(TopUp, EstimatesTellWhatThePulsesTaught) {
   EXPECT_EQ(field(line, opening + "_pulses"), field(d.result, "topups")) << line;
   EXPECT_NEAR(std::stod(field(line, opening + "_flow_g_s")), law.law.theta1, 0.1) << line;
   EXPECT_NEAR(std::stod(field(line, opening + "_loss_g")), law.law.theta2, 0.1) << line;
+  EXPECT_NEAR(std::stod(field(line, opening + "_travel_ms")), 1000.0 * law.travel_s, 0.1) << line;
   const std::string other = half ? "full" : "half";
   EXPECT_EQ(field(line, other + "_flow_g_s"), "none") << line;
   EXPECT_EQ(field(line, other + "_pulses"), "0") << line;
+  EXPECT_EQ(field(line, other + "_travel_ms"), "none") << line;
   EXPECT_EQ(c.run({"learn reset"}), "OK\n");
   EXPECT_EQ(pulses_line(),
             "PULSES material=0 full_flow_g_s=none full_loss_g=none full_pulses=0 half_flow_g_s=none "
-            "half_loss_g=none half_pulses=0");
+            "half_loss_g=none half_pulses=0 full_travel_ms=none half_travel_ms=none");
 }
 
 // A preact close 900 g early at 2 kg with `tol_action topup`, 20 pulses of 150 ms allowed (360 g

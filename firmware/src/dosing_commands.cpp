@@ -108,7 +108,8 @@ void write_valve_timing(Console& console, std::size_t material, const ValveTimin
 }
 
 // What the selected material's top-up pulses taught, full and half open (kept with it across
-// restarts): the law m = q e - c's flow q and loss c, and how many pulses taught it.
+// restarts): the law m = q e - c's flow q and loss c, how many pulses taught it, and the valve's
+// travel to that opening as the pulses showed it.
 void write_pulse_laws(Console& console, std::size_t material, const TopUpPulseLearning& pulses) {
   console.write("PULSES material=");
   console.write_int(std::int64_t(material));
@@ -125,6 +126,8 @@ void write_pulse_laws(Console& console, std::size_t material, const TopUpPulseLe
     console.write(l.count);
     console.write_int(l.law.pulses);
   }
+  write_estimate(console, "full_travel_ms", pulses.full.pulses > 0, 1000.0f * pulses.full.travel_s, 1);
+  write_estimate(console, "half_travel_ms", pulses.half.pulses > 0, 1000.0f * pulses.half.travel_s, 1);
   console.put('\n');
 }
 }  // namespace

@@ -17,9 +17,10 @@
 // A pulse shorter than the valve's travel opens the gate only part of the way, so what it lets
 // through depends on how fast the gate moves, and the datasheet's stroke is often far off (a valve
 // whose feedback never saw a full stroke, on a plant whose doses all close before the valve is
-// open). Each pulse that may not have opened fully also teaches the travel: the one under which
-// the law would have predicted what the pulse delivered, taken a share of the way (within a quarter
-// and four times the datasheet's), before q and c learn from the pulse under it.
+// open). Each pulse that may not have opened fully also teaches the travel: once q and c have
+// learned from the pulse, the travel under which they would have predicted what it delivered,
+// taken a share of the way (within a quarter and four times the stroke in use: the datasheet's, or
+// the one the feedback timed).
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit: short of it, every such fill would end short by

@@ -12,7 +12,7 @@ namespace dynweigh::firmware {
 struct PulseLawLearning {
   TwoParameterRls::State law{};  // theta1 q, theta2 c
   float prior_flow_g_s = 0.0f;  // the dose's flow the law started from: its bounds
-  float travel_s = 0.0f;        // the valve's travel to this opening
+  float travel_s = 0.0f;        // the valve's travel to this opening, as the pulses taught it
   std::uint8_t pulses = 0;      // 0: nothing learned
 };
 
