@@ -37,7 +37,10 @@ using namespace dynweigh;
 constexpr std::size_t kSerialBytesPerJiffy = 115;
 // Room for a 50 kg dose at the toy plant's flow, its settling and a `readtestdata` print, per run.
 constexpr std::uint32_t kMaxJiffies = 6000;
-constexpr std::size_t kMaxAnswerLine = 160;
+// The widest answer line: `estimates`' PULSES line with every field at its widest (a 500 mm bore
+// at 5000 kg/m^3 flows about 1.6 t/s, its law's flow in g/s up to 9 characters, its loss 8, each
+// travel 7), 186 characters.
+constexpr std::size_t kMaxAnswerLine = 200;
 
 [[noreturn]] void violated(const char* what, std::uint32_t jiffy) {
   std::fprintf(stderr, "console invariant violated at jiffy %u: %s\n", unsigned(jiffy), what);
