@@ -358,7 +358,7 @@ TEST(TopUpPulseLaw, APulseShorterThanTheStrokeIsSizedFromTheGatesShape) {
   EXPECT_GT(std::fabs(delivered(proportional) - 20.0f), mean_limit_g);
 }
 
-// Plant 6 of the family (seed 1), installed as an integrator would (geometry true, density a guess,
+// The family's plant random-6 (seed 1), installed as the bench does (geometry true, density a guess,
 // the valve at its datasheet defaults: 80 ms stroke): its valve takes 299 ms to open and its bore
 // passes 11.6 kg/s, so its 500 g and 1 kg fills close before the valve is open and every top-up
 // pulse stops far short of full open. Sized with the datasheet's travel, the pulses delivered a
