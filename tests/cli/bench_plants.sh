@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # dynweigh bench --plants: a tiny family run prints one well-formed line per strategy x plant x
-# target it holds and a summary per strategy, the same bytes twice; wrong --plants specs and options
+# target it holds, a summary per strategy and the model's speed comparison, the same bytes twice; wrong --plants specs and options
 # that do not go with it are refused in one line with a non-zero exit, before any work.
 set -uo pipefail
 bin=$(cd "$1" && pwd); work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
@@ -38,17 +38,36 @@ cells='^strategy=(model|twostage) plant=random-[12] target_g=(500|2000) class_fi
 cells+='class_steady=(X\([0-9.]+\)|none) time_ratio=[0-9.]+ topups=[0-9]+ first_error_g=-?[0-9.]+ '
 cells+='steady_bias_g=-?[0-9.]+ steady_maxdev_g=[0-9.]+ failed=[0-9]+ failure=[^ ]+$'
 summary='^summary strategy=(model|twostage) plants=2 seed=3 fills=2 cells=[0-9]+ first_x1_share=[01]\.[0-9]{3} steady_x1_share=[01]\.[0-9]{3}$'
+comparison='^summary comparison=model baselines=twostage cells=[0-9]+ faster_cells=[0-9]+ faster_share=[01]\.[0-9]{3} '
+comparison+='faster_cells_x1=[0-9]+ faster_share_x1=[01]\.[0-9]{3}$'
 n_cells=$(grep -cE "$cells" out.txt)
 n_summaries=$(grep -cE "$summary" out.txt)
 [ "$n_summaries" -eq 2 ] || fail "$n_summaries summary lines, not 2"
 [ "$n_cells" -ge 2 ] && [ "$n_cells" -le 8 ] || fail "$n_cells cell lines, not 2..8"
-[ "$((n_cells + n_summaries))" -eq "$(grep -c '' out.txt)" ] || fail "lines neither cells nor summaries"
+tail -1 out.txt | grep -qE "$comparison" || fail "the last line is not the comparison: $(tail -1 out.txt)"
+[ "$((n_cells + n_summaries + 1))" -eq "$(grep -c '' out.txt)" ] || fail "lines neither cells nor summaries"
 [ "$(grep -c '^strategy=model ' out.txt)" -eq "$(grep -c '^strategy=twostage ' out.txt)" ] ||
   fail "the strategies met different cells"
 # The summaries come last and count the cells above them.
-tail -2 out.txt | grep -q '^summary strategy=model ' || fail "the summaries are not the last lines"
+tail -3 out.txt | head -1 | grep -q '^summary strategy=model ' || fail "the summaries are not the last lines"
 model_cells=$(grep -c '^strategy=model ' out.txt)
 grep -q "^summary strategy=model .* cells=$model_cells " out.txt || fail "the model summary miscounts its cells"
+# The comparison, counted again here: the model faster than twostage at an equal or better steady
+# class (no class: worse than any), and with every class within X(1) taken as X(1).
+expected=$(awk '
+  function cls(line) { if (match(line, /class_steady=X\([0-9.]+\)/)) return substr(line, RSTART + 15, RLENGTH - 16) + 0; return 1e9 }
+  function field(line, key) { match(line, " " key "=[^ ]+"); return substr(line, RSTART + length(key) + 2, RLENGTH - length(key) - 2) }
+  /^strategy=/ { key = field($0, "plant") " " field($0, "target_g"); c[$1, key] = cls($0); t[$1, key] = field($0, "time_ratio") + 0; keys[key] = 1 }
+  END {
+    for (k in keys) {
+      m = c["strategy=model", k]; b = c["strategy=twostage", k]; tm = t["strategy=model", k]; tb = t["strategy=twostage", k]
+      if (tb <= 0) tb = 1e9
+      n++; f += (m <= b && tm < tb); f1 += ((m < 1 ? 1 : m) <= (b < 1 ? 1 : b) && tm < tb)
+    }
+    printf "cells=%d faster_cells=%d ", n, f; printf "faster_cells_x1=%d\n", f1
+  }' out.txt)
+got=$(tail -1 out.txt | sed -E 's/.*(cells=[0-9]+ faster_cells=[0-9]+) .*(faster_cells_x1=[0-9]+).*/\1 \2/')
+[ "$got" = "$expected" ] || fail "the comparison says $got, the cells say $expected"
 timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 1 >again.txt 2>/dev/null
 cmp -s out.txt again.txt || fail "a second run (one thread) printed other bytes"
 cat out.txt

@@ -18,6 +18,7 @@
 #include "dynweigh/hal/host/lockstep_session.hpp"
 #include "dynweigh/hal/host/scripted_console.hpp"
 #include "dynweigh/sim/plant_family.hpp"
+#include "family_comparison.hpp"
 #include "fill_series.hpp"
 #include "grid_runner.hpp"
 #include "dynweigh/model/oiml_r61_class.hpp"
@@ -311,7 +312,7 @@ void run_plant_family_bench(const PlantFamilyOptions& o, const grid::ParallelSes
       options);
   bar.finish();
   if (!session.writer()) return;
-  std::vector<std::string> summaries;
+  std::vector<std::string> summaries, cell_lines;
   for (std::size_t s = 0; s < o.strategies.size(); ++s) {
     std::size_t cells = 0, first_x1 = 0, steady_x1 = 0;
     for (std::uint32_t p = 0; p < o.plants.count; ++p) {
@@ -319,6 +320,7 @@ void run_plant_family_bench(const PlantFamilyOptions& o, const grid::ParallelSes
       for (std::string line; std::getline(row, line, kCellSeparator);) {
         if (line == "-") continue;
         std::printf("%s\n", line.c_str());
+        cell_lines.push_back(line);
         const double first = class_value(line, "class_first"), steady = class_value(line, "class_steady");
         ++cells;
         first_x1 += first > 0.0 && first <= 1.0;
@@ -334,6 +336,7 @@ void run_plant_family_bench(const PlantFamilyOptions& o, const grid::ParallelSes
                   double(steady_x1) / n);
     summaries.push_back(summary);
   }
+  if (const auto comparison = family_comparison_summary(cell_lines)) summaries.push_back(*comparison);
   for (const std::string& summary : summaries) std::printf("%s\n", summary.c_str());
 }
 
