@@ -24,9 +24,10 @@ constexpr float kLongestTravelS = 10.0f;
 // The loss builds up over the flow's start-up: a pulse open for less than this loses in proportion.
 constexpr float kLossBuildS = 0.1f;
 
-// The travel a pulse may teach: between these shares of the datasheet's. A pulse moves the learned
-// one a share of the way to what it showed (its mass is uncertain by the flow's fluctuation and the
-// valve's jitter), in one step at most by this factor.
+// The travel a pulse may teach: between these shares of the stroke in use (the datasheet's, or the
+// one the valve's feedback timed). A pulse moves the learned one a share of the way to what it
+// showed (its mass is uncertain by the flow's fluctuation and the valve's jitter), in one step at
+// most by this factor.
 constexpr float kTravelLow = 0.25f;
 constexpr float kTravelHigh = 4.0f;
 constexpr float kTravelGain = 0.3f;
@@ -225,9 +226,7 @@ TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g, bool last) {
 }
 
 float TopUpPulseLaw::expected_g(bool half, float seconds) const {
-  const Law& l = law(half);
-  const float open_s = open_seconds(l, seconds);
-  const float m = l.rls.predict(open_s, loss_regressor(open_s));
+  const float m = predicted_g(law(half), seconds);
   return m > 0.0f ? m : 0.0f;
 }
 
