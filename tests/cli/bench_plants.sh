@@ -39,7 +39,7 @@ cells+='class_steady=(X\([0-9.]+\)|none) time_ratio=[0-9.]+ topups=[0-9]+ first_
 cells+='steady_bias_g=-?[0-9.]+ steady_maxdev_g=[0-9.]+ failed=[0-9]+ failure=[^ ]+$'
 summary='^summary strategy=(model|twostage) plants=2 seed=3 fills=2 cells=[0-9]+ first_x1_share=[01]\.[0-9]{3} steady_x1_share=[01]\.[0-9]{3}$'
 comparison='^summary comparison=model baselines=twostage cells=[0-9]+ faster_cells=[0-9]+ faster_share=[01]\.[0-9]{3} '
-comparison+='faster_cells_x1=[0-9]+ faster_share_x1=[01]\.[0-9]{3}$'
+comparison+='faster_cells_x1=[0-9]+ faster_share_x1=[01]\.[0-9]{3} unbeaten_cells=[0-9]+ unbeaten_share=[01]\.[0-9]{3}$'
 n_cells=$(grep -cE "$cells" out.txt)
 n_summaries=$(grep -cE "$summary" out.txt)
 [ "$n_summaries" -eq 2 ] || fail "$n_summaries summary lines, not 2"
@@ -53,7 +53,8 @@ tail -3 out.txt | head -1 | grep -q '^summary strategy=model ' || fail "the summ
 model_cells=$(grep -c '^strategy=model ' out.txt)
 grep -q "^summary strategy=model .* cells=$model_cells " out.txt || fail "the model summary miscounts its cells"
 # The comparison, counted again here: the model faster than twostage at an equal or better steady
-# class (no class: worse than any), and with every class within X(1) taken as X(1).
+# class (no class: worse than any), the same with every class within X(1) taken as X(1), and the
+# model with a class that twostage did not reach in at most its time.
 expected=$(awk '
   function cls(line) { if (match(line, /class_steady=X\([0-9.]+\)/)) return substr(line, RSTART + 15, RLENGTH - 16) + 0; return 1e9 }
   function field(line, key) { match(line, " " key "=[^ ]+"); return substr(line, RSTART + length(key) + 2, RLENGTH - length(key) - 2) }
@@ -63,10 +64,12 @@ expected=$(awk '
       m = c["strategy=model", k]; b = c["strategy=twostage", k]; tm = t["strategy=model", k]; tb = t["strategy=twostage", k]
       if (tb <= 0) tb = 1e9
       n++; f += (m <= b && tm < tb); f1 += ((m < 1 ? 1 : m) <= (b < 1 ? 1 : b) && tm < tb)
+      u += (m < 1e9 && !(b <= m && tb <= tm))
     }
-    printf "cells=%d faster_cells=%d ", n, f; printf "faster_cells_x1=%d\n", f1
+    printf "cells=%d faster_cells=%d ", n, f; printf "faster_cells_x1=%d unbeaten_cells=%d\n", f1, u
   }' out.txt)
-got=$(tail -1 out.txt | sed -E 's/.*(cells=[0-9]+ faster_cells=[0-9]+) .*(faster_cells_x1=[0-9]+).*/\1 \2/')
+got=$(tail -1 out.txt |
+  sed -E 's/.*(cells=[0-9]+ faster_cells=[0-9]+) .*(faster_cells_x1=[0-9]+) .*(unbeaten_cells=[0-9]+).*/\1 \2 \3/')
 [ "$got" = "$expected" ] || fail "the comparison says $got, the cells say $expected"
 timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 1 >again.txt 2>/dev/null
 cmp -s out.txt again.txt || fail "a second run (one thread) printed other bytes"

@@ -45,6 +45,16 @@ bool faster_than_all(const Entry& model, const std::map<std::string, Entry>& bas
   return true;
 }
 
+// The model reached a class, and no baseline at an equal or better one took at most its time.
+bool undominated(const Entry& model, const std::map<std::string, Entry>& baselines) {
+  if (!std::isfinite(model.steady_class)) return false;
+  for (const auto& [name, b] : baselines) {
+    (void)name;
+    if (b.steady_class <= model.steady_class && b.time_ratio <= model.time_ratio) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool is_family_baseline(const std::string& strategy) {
@@ -68,7 +78,7 @@ std::optional<std::string> family_comparison_summary(const std::vector<std::stri
     if (is_family_baseline(strategy)) baselines[strategy] = true;
   }
   if (baselines.empty()) return std::nullopt;
-  std::size_t compared = 0, faster = 0, faster_x1 = 0;
+  std::size_t compared = 0, faster = 0, faster_x1 = 0, unbeaten = 0;
   for (const auto& [cell, strategies] : cells) {
     (void)cell;
     const auto model = strategies.find("model");
@@ -81,6 +91,7 @@ std::optional<std::string> family_comparison_summary(const std::vector<std::stri
     ++compared;
     faster += faster_than_all(model->second, met, 0.0);
     faster_x1 += faster_than_all(model->second, met, kAskedClass);
+    unbeaten += undominated(model->second, met);
   }
   if (compared == 0) return std::nullopt;
   std::string names;
@@ -88,10 +99,12 @@ std::optional<std::string> family_comparison_summary(const std::vector<std::stri
     (void)present;
     names += (names.empty() ? "" : ",") + name;
   }
-  char numbers[200];
+  const double n = double(compared);
+  char numbers[240];
   std::snprintf(numbers, sizeof numbers,
-                " cells=%zu faster_cells=%zu faster_share=%.3f faster_cells_x1=%zu faster_share_x1=%.3f", compared,
-                faster, double(faster) / double(compared), faster_x1, double(faster_x1) / double(compared));
+                " cells=%zu faster_cells=%zu faster_share=%.3f faster_cells_x1=%zu faster_share_x1=%.3f"
+                " unbeaten_cells=%zu unbeaten_share=%.3f",
+                compared, faster, double(faster) / n, faster_x1, double(faster_x1) / n, unbeaten, double(unbeaten) / n);
   return "summary comparison=model baselines=" + names + numbers;
 }
 
