@@ -11,6 +11,7 @@
 
 #include "dynweigh/firmware/dose_plan.hpp"
 #include "dynweigh/firmware/top_up_pulse_law.hpp"
+#include "dynweigh/model/fluctuation_average.hpp"
 #include "dynweigh/model/gate_flow_shape.hpp"
 #include "dynweigh/model/oiml_r61_class.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
@@ -464,6 +465,33 @@ TEST(DosePlan, AStreamMeasuredForASecondIsNoLongerYoung) {
   EXPECT_GT(planner.growth(), 0.0f);
   planner.observe_rate(20.0f);
   EXPECT_EQ(planner.growth(), 0.0f);
+}
+
+// What is in flight left the orifice over the flight: the plan counts the flow's fluctuation as
+// its mean over that window keeps it (docs/physics.md, The flow's fluctuation), more of it for a
+// short fall than for a long one. A fixed 0.3 of it (as before) was less than a 0.5 s flight keeps
+// of a fluctuation correlated over 0.15 s (0.65 of it): the default scene's 5 kg fills then
+// overdosed beyond X(1).
+TEST(DosePlan, CountsTheFluctuationTheFlightKeeps) {
+  firmware::DosePlanner planner;
+  planner.configure(1.0f, 0.5f, false, 0.01f);
+  planner.start();
+  for (int i = 0; i < 200; ++i) planner.observe_rate(i % 2 ? 19.0f : 21.0f);  // 5 % rms, a mature stream
+  ASSERT_EQ(planner.growth(), 0.0f);
+  const float fluctuation = planner.fluctuation();
+  EXPECT_NEAR(fluctuation, 0.05f, 0.001f);
+  constexpr float kInFlightG = 1000.0f;
+  const float corr = firmware::DosePlanner::kFluctuationCorrelationS;
+  for (float flight_s : {0.3f, 0.5f, 1.0f}) {
+    const firmware::PlanChoice c = planner.choose(5000.0f, 5000.0f, kInFlightG, true, false, flight_s);
+    const float kept = model::fluctuation_share_of_window_mean(corr, flight_s);
+    EXPECT_NEAR(c.sigma_g, (kept * fluctuation + firmware::DosePlanner::kEstimatorShare) * kInFlightG, 0.01f);
+  }
+  const float short_fall = planner.choose(5000.0f, 5000.0f, kInFlightG, true, false, 0.3f).sigma_g;
+  const float long_fall = planner.choose(5000.0f, 5000.0f, kInFlightG, true, false, 1.0f).sigma_g;
+  EXPECT_GT(short_fall, long_fall);
+  EXPECT_GT(planner.choose(5000.0f, 5000.0f, kInFlightG, true, false, 0.5f).sigma_g,
+            (0.6f * fluctuation + firmware::DosePlanner::kEstimatorShare) * kInFlightG);
 }
 
 // The shipped default at 10 kg in the default class: the model is right there, the plan full.

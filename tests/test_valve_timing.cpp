@@ -100,7 +100,9 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
   std::printf("; 30/80 ms valve (as the datasheet)");
   for (double e : matched_mean) std::printf(" %+.0f", e);
   std::printf("\n");
-  EXPECT_GT(slow_mean[0] - matched_mean[0], 60.0);  // the datasheet's timing: the slow valve overdoses
+  // The datasheet's timing: the slow valve overdoses (by 45 g more than the matched one; 71 g while
+  // the plan counted less of the flow's fluctuation in flight and aimed closer).
+  EXPECT_GT(slow_mean[0] - matched_mean[0], 30.0);
   const double later_excess = (slow_mean[2] + slow_mean[3] - matched_mean[2] - matched_mean[3]) / 2.0;
   EXPECT_LT(later_excess, 15.0);
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dynweigh/model/fluctuation_average.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
 
 namespace dynweigh::firmware {
@@ -61,12 +62,14 @@ float DosePlanner::growth() const {
   return (recent_ - mean_) / mean_;
 }
 
-PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught) const {
+PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught,
+                               float flight_s) const {
   PlanChoice c;
   c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
-  // The flow's fluctuation is partly averaged out over the flight (its correlation time is shorter).
-  const float measured_share = kFluctuationWeight * fluctuation() + kEstimatorShare + growth();
+  // The flow's fluctuation is partly averaged out over the flight.
+  const float kept = model::fluctuation_share_of_window_mean(kFluctuationCorrelationS, flight_s);
+  const float measured_share = kept * fluctuation() + kEstimatorShare + growth();
   const float blind_share = law_taught ? kLearnedBlindShare : kBlindShare;
   c.sigma_g = measuring ? measured_share * in_flight : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;

@@ -148,7 +148,8 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
     return 0.0f;
   }
   const bool law_taught = model_.fill_law().learned().open_time_law.fills >= kLawFillsForPlan;
-  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught);
+  plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught,
+                          model_.settle_delay_s());
   return plan_.margin_g;
 }
 

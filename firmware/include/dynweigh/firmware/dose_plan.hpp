@@ -43,7 +43,10 @@ class DosePlanner {
   // sized well, aiming shorter by 4 % costs a pulse and saves an overdose.
   static constexpr float kLearnedBlindShare = 0.04f;
   static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
-  static constexpr float kFluctuationWeight = 0.3f;   // of the rate's fluctuation, what the in-flight keeps
+  // The in-flight mass is off by the flow's fluctuation averaged over the flight
+  // (model/fluctuation_average.hpp), whose correlation time no dose measures: taken in the upper
+  // half of the 0.05-0.3 s the plant family spans, so that the margin errs on the safe side.
+  static constexpr float kFluctuationCorrelationS = 0.2f;
   // A stream measured for less than this is young: its flow may still be starting up (the flow's
   // start-up is 0.05 to 0.5 s, the valve's stroke up to 0.3 s, seen after the fall).
   static constexpr float kYoungStreamS = 1.0f;
@@ -59,7 +62,10 @@ class DosePlanner {
   // what is on its way (falling, and let through by the closing valve), `measuring` whether the
   // stream has been measured.
   // `law_taught`: a blind close is timed by the open-time law this material's fills taught.
-  PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false) const;
+  // `flight_s`: the time the material in flight took to leave the orifice (0: a fluctuation it
+  // does not average at all).
+  PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false,
+                    float flight_s = 0.0f) const;
   float fluctuation() const;  // the landing rate's relative standard deviation in this dose
   // While the stream is young, how far its recent landing rate is above its mean, as a share of
   // the mean; 0 once it is not young, or not growing.
