@@ -34,7 +34,6 @@ SKIPPED = {
     "# build the Debian package": "builds in the source tree (tests/package builds the package and checks it)",
     "# on the controller: install the package": "installs a package as root (tests/package unpacks it and runs it)",
     "# one instance per scale": "needs root and systemd as init (tests/package verifies the unit and its launcher)",
-    "dynweigh bench --plants random:20": "the family bench runs for minutes (tests/cli/bench_plants.sh covers the command)",
     "python3 tests/targets/outside_plant.py": "runs from the source tree (targets.outside_plant_* run it)",
 }
 SHELL_TAGS = {"sh", "bash", "shell", "console"}
