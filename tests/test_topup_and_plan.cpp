@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dynweigh/firmware/dose_plan.hpp"
+#include "dynweigh/firmware/pulse_verdict.hpp"
 #include "dynweigh/firmware/top_up_pulse_law.hpp"
 #include "dynweigh/model/fluctuation_average.hpp"
 #include "dynweigh/model/gate_flow_shape.hpp"
@@ -403,6 +404,28 @@ TEST(TopUp, PulsesOnAValveSlowerThanItsDatasheetTeachItsTravel) {
   EXPECT_GT(full_s > half_s ? full_s : half_s, 1.5f * datasheet_s);
   EXPECT_GT(steady_class, 0.0);
   EXPECT_LE(steady_class, 2.0);
+}
+
+// A pulse the scale saw nothing of ends the top-up (a frozen reading, an empty silo), unless the pulse
+// law sized it shorter than a quarter of the valve's stroke: the gate then barely parted, and the law
+// learns from it. A pulse that delivered a little, however much less than expected, always teaches.
+TEST(TopUpPulse, OnlyASizedPulseTooShortToPartTheGateMayMoveNothingAndGoOn) {
+  using firmware::judge_pulse;
+  using firmware::PulseVerdict;
+  constexpr float kStrokeS = 0.2f;
+  // Nothing seen: less than 3 % of what was expected, and less than a gram.
+  EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.04f, kStrokeS, true), PulseVerdict::parted_too_little);
+  EXPECT_EQ(judge_pulse(40.0f, 1.1f, 0.04f, kStrokeS, true), PulseVerdict::parted_too_little);
+  EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.06f, kStrokeS, true), PulseVerdict::moved_nothing);
+  EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.04f, kStrokeS, false), PulseVerdict::moved_nothing);
+  EXPECT_EQ(judge_pulse(10.0f, 0.5f, 0.30f, kStrokeS, true), PulseVerdict::moved_nothing);
+  EXPECT_EQ(judge_pulse(40.0f, -1.0f, 0.30f, kStrokeS, true), PulseVerdict::moved_nothing);
+  // Something seen, a fifth of what was expected: the valve is slower than the law thought.
+  EXPECT_EQ(judge_pulse(40.0f, 8.0f, 0.30f, kStrokeS, true), PulseVerdict::delivered);
+  EXPECT_EQ(judge_pulse(40.0f, 1.3f, 0.06f, kStrokeS, true), PulseVerdict::delivered);
+  EXPECT_EQ(judge_pulse(10.0f, 1.0f, 0.30f, kStrokeS, false), PulseVerdict::delivered);
+  // No stroke known: no pulse is too short to part the gate.
+  EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.001f, 0.0f, true), PulseVerdict::moved_nothing);
 }
 
 // The default scene at 10 kg: the model's close is measured and its uncertainty small. X(10) needs

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dynweigh/firmware/pulse_verdict.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
 
 namespace dynweigh::firmware {
@@ -23,16 +24,8 @@ constexpr float kLandingMarginS = 0.03f;
 // falls short rather than over.
 constexpr float kBlindFlowMargin = 1.4f;
 constexpr float kNoStreamYetFactor = 2.0f;
-// A pulse the scale saw less of than this share of what it should have delivered (at least a gram)
-// moved nothing: a frozen reading or an empty silo. (A valve slower than its datasheet lets through
-// far less than expected, but not nothing: the law learns that.) A sized pulse shorter than a
-// quarter of the valve's stroke may move nothing of itself: the gate barely parts, and the grains
-// arch over the slit. The law learns that it gave nothing, and the next pulse is longer.
-constexpr float kNothingSeenShare = 0.03f;
-constexpr float kShortestOpeningShare = 0.25f;
 // The longest pulse sized from a measured flow: each aims short of the deficit anyway.
 constexpr float kLongestSizedPulseS = 2.0f;
-constexpr float kNothingSeenG = 1.0f;
 }  // namespace
 
 void DosingCycle::configure(const Parameters& p) {
@@ -259,12 +252,11 @@ PlanChoice DosingCycle::plan() const {
 }
 
 bool DosingCycle::learn_top_up(float delivered_g) {
-  const float least = kNothingSeenShare * pulse_.expected_g;
-  const bool nothing_seen = delivered_g < (least > kNothingSeenG ? least : kNothingSeenG);
-  if (!sizes_top_ups()) return !nothing_seen;
-  const bool too_short_to_open = pulse_.seconds < kShortestOpeningShare * model_.stroke_in_use_s_now();
-  if (nothing_seen && !too_short_to_open) return false;
-  top_up_law_.learn(pulse_, delivered_g > 0.0f ? delivered_g : 0.0f);
+  const bool sized = sizes_top_ups();
+  const PulseVerdict verdict =
+      judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, model_.stroke_in_use_s_now(), sized);
+  if (verdict == PulseVerdict::moved_nothing) return false;
+  if (sized) top_up_law_.learn(pulse_, delivered_g > 0.0f ? delivered_g : 0.0f);
   return true;
 }
 

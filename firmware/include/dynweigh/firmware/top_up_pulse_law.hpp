@@ -44,8 +44,8 @@ class TopUpPulseLaw {
     float expected_g = 0.0f;
   };
   static constexpr float kFirstAim = 0.8f;    // share of the deficit, before any pulse was seen
-  static constexpr float kLaterAim = 0.95f;   // at most, once the law has seen one
-  static constexpr float kLeastAim = 0.5f;    // at least, however unsure the law
+  static constexpr float kLaterAim = 0.9f;    // at most, once the law has seen one
+  static constexpr float kLeastAim = 0.6f;    // at least, however unsure the law
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
 
   // A dose's full-open flow (grams per second), the share of it half open lets through, the
