@@ -100,9 +100,10 @@ TEST(ValveTiming, ASlowValvesOverdoseIsGoneByTheThirdFill) {
   std::printf("; 30/80 ms valve (as the datasheet)");
   for (double e : matched_mean) std::printf(" %+.0f", e);
   std::printf("\n");
-  // The datasheet's timing: the slow valve overdoses (by 45 g more than the matched one; 71 g while
-  // the plan counted less of the flow's fluctuation in flight and aimed closer).
-  EXPECT_GT(slow_mean[0] - matched_mean[0], 30.0);
+  // The datasheet's timing: the slow valve overdoses (by 20 g more than the matched one; 45 g before
+  // the plan allowed for the let-through no measured close had shown yet, 71 g while it also counted
+  // less of the flow's fluctuation in flight).
+  EXPECT_GT(slow_mean[0] - matched_mean[0], 10.0);
   const double later_excess = (slow_mean[2] + slow_mean[3] - matched_mean[2] - matched_mean[3]) / 2.0;
   EXPECT_LT(later_excess, 15.0);
 }

@@ -74,7 +74,7 @@ void DosingCycle::open_from_rest() {
   awaiting_rest_ = false;
   open_jiffy_ = jiffies_;
   start_weight_g_ = standstill_.mean();
-  model_.start(start_weight_g_);
+  model_.start(start_weight_g_, float(result_.target_g));
   two_stage_.start(float(result_.target_g));
   pac_.start(float(result_.target_g));
   flow_preact_.start(float(result_.target_g));
@@ -141,8 +141,11 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
     return 0.0f;
   }
   const bool law_taught = model_.fill_law().learned().open_time_law.fills >= kLawFillsForPlan;
+  const bool let_through_taught = model_.fill_law().learned().residual_fills > 0;
+  const float let_through_sigma_g =
+      let_through_taught ? 0.0f : DosePlanner::kUnlearnedLetThroughS * growth_g_per_jiffy / jiffy_s_;
   plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught,
-                          model_.settle_delay_s());
+                          model_.settle_delay_s(), let_through_sigma_g);
   return plan_.margin_g;
 }
 

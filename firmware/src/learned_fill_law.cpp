@@ -49,10 +49,17 @@ void LearnedFillLaw::restore(const MaterialLearning& learned) {
       learned.law_longest_open_s < kLongestOpenS) {
     learned_.law_longest_open_s = learned.law_longest_open_s;
   }
+  learned_.doses = learned.doses;
   if (learned.residual_fills > 0 && std::fabs(learned.close_let_through_s) <= kLetThroughLimitS) {
     learned_.close_let_through_s = learned.close_let_through_s;
     learned_.residual_fills = learned.residual_fills;
   }
+}
+
+float LearnedFillLaw::open_s_for(float final_g) const {
+  const TwoParameterRls::State& s = law_.state();
+  const float open_s = s.theta1 > 0.0f ? (final_g - s.theta2) / s.theta1 : 0.0f;
+  return open_s > 0.0f && std::isfinite(open_s) ? open_s : 0.0f;
 }
 
 // Within the deadband the timing in use stands: what is learned then is the scatter of the fills.
@@ -64,6 +71,7 @@ float LearnedFillLaw::close_residual_s(float let_through_in_use_s) const {
 void LearnedFillLaw::learn(const CloseRecord& close, float final_g) {
   if (!close.valid || !close.from_full_open || !(final_g > 0.0f) || !(close.open_s > 0.0f)) return;
   learn_open_time(close.open_s, final_g);
+  learned_.doses.add(close.open_s, final_g);
   if (!close.measured || !(close.flow_g_s > 0.0f)) return;
   const float residual_s = (final_g - close.prediction_g) / close.flow_g_s;
   learn_let_through(close.let_through_s + std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)));

@@ -51,11 +51,15 @@ void BasicModelCutoff<Scalar>::configure(const Parameters& p) {
 }
 
 template <typename Scalar>
-void BasicModelCutoff<Scalar>::start(Scalar start_weight_g) {
+void BasicModelCutoff<Scalar>::start(Scalar start_weight_g, Scalar target_g) {
   valve_.start_dose();
   predictor_.start(start_weight_g, valve_.in_use());
   estimator_.start(start_weight_g, valve_.in_use());
+  target_open_s_ = Scalar(law_.knows_open_time_law() ? law_.open_s_for(float(target_g)) : 0.0f);
+  near_target_ = DoseHistory::PowerLaw{};
+  curve_fitted_ = false;
   timed_by_law_ = false;
+  timed_by_curve_ = false;
   model_prediction_g_ = Scalar(0);
   close_ = CloseRecord{};
 }
@@ -67,7 +71,17 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
   estimator_.track_flow(net_weight_g, predictor_.impact_speed_m_s());
   timed_by_law_ = !estimator_.measuring() && !predictor_.fine_feeding() && law_.knows_open_time_law();
   if (timed_by_law_) {
-    model_prediction_g_ = Scalar(law_.final_at_open_g(float(open_s())));
+    // The kept doses' curve is fitted once, from the dose's second jiffy on: not in its first, whose
+    // step already works out the valve's timing (no close comes that early).
+    if (!curve_fitted_ && estimator_.jiffies() >= kCurveFitJiffy) {
+      near_target_ = law_.learned().doses.near(float(target_open_s_));
+      curve_fitted_ = true;
+    }
+    // The larger of the line and the kept doses' curve: the line falls short where the fill grows
+    // faster than the open time (dose_history.hpp).
+    const float line_g = law_.final_at_open_g(float(open_s())), curve_g = near_target_.fill_g(float(open_s()));
+    timed_by_curve_ = curve_g > line_g;
+    model_prediction_g_ = Scalar(timed_by_curve_ ? curve_g : line_g);
     return model_prediction_g_;
   }
   if (!estimator_.measuring()) {
@@ -88,7 +102,10 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
 
 template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::growth_per_jiffy_g() const {
-  return timed_by_law_ ? Scalar(law_.law_flow_g_s()) * jiffy_s_ : predictor_.growth_per_jiffy_g();
+  if (!timed_by_law_) return predictor_.growth_per_jiffy_g();
+  const float line_g_s = law_.law_flow_g_s();
+  const float curve_g_s = timed_by_curve_ ? near_target_.growth_g_per_s(float(open_s())) : 0.0f;
+  return Scalar(curve_g_s > line_g_s ? curve_g_s : line_g_s) * jiffy_s_;
 }
 
 template <typename Scalar>

@@ -12,8 +12,9 @@ constexpr std::uint32_t kMagic = 0x48574E44;  // "DNWH"
 // 2: the learning table; 3: the zero in whole counts; 4: what the pac and flowpreact baselines learned;
 // 5: the tolerance parameters; 6: the discharge parameters and the material table; 7: what the model
 // strategy's fills of each material measured; 8: what each material's top-up pulses taught; 9: the
-// valve's timing each material's doses measured
-constexpr std::uint16_t kVersion = 9;
+// valve's timing each material's doses measured; 10: each material's last doses that ran full open
+constexpr std::uint16_t kVersion = 10;
+constexpr std::uint16_t kVersionBeforeDoseHistory = 9;
 constexpr std::uint16_t kVersionBeforeValveTiming = 8;
 constexpr std::uint16_t kVersionBeforePulses = 7;
 constexpr std::uint16_t kVersionBeforeMaterialLearning = 6;
@@ -141,6 +142,32 @@ ValveTimingLearning get_valve_timing(const std::uint8_t* p) {
   return sane(v) ? v : ValveTimingLearning{};
 }
 
+void put_dose_history(std::uint8_t* p, const DoseHistory& doses) {
+  p[0] = std::uint8_t(doses.size());
+  p[1] = doses.next();
+  for (std::size_t i = 0; i < DoseHistory::kDoses; ++i) {
+    const DoseHistory::Entry& e = doses.entry(i);
+    std::uint8_t* d = p + 4 + 4 * i;
+    d[0] = std::uint8_t(e.open_100us);
+    d[1] = std::uint8_t(e.open_100us >> 8);
+    d[2] = std::uint8_t(e.final_g);
+    d[3] = std::uint8_t(e.final_g >> 8);
+  }
+}
+
+// A history no dose can leave (a count or a slot out of range, an empty or too light dose) is dropped.
+DoseHistory get_dose_history(const std::uint8_t* p) {
+  DoseHistory::Entry entries[DoseHistory::kDoses];
+  for (std::size_t i = 0; i < DoseHistory::kDoses; ++i) {
+    const std::uint8_t* d = p + 4 + 4 * i;
+    entries[i].open_100us = std::uint16_t(d[0] | (d[1] << 8));
+    entries[i].final_g = std::uint16_t(d[2] | (d[3] << 8));
+  }
+  DoseHistory doses;
+  if (!doses.restore(entries, p[0], p[1])) return DoseHistory{};
+  return doses;
+}
+
 void put_materials(std::uint8_t* p, const MaterialTable& table) {
   p[0] = std::uint8_t(table.selected());
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
@@ -155,19 +182,22 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     put_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes, m.pulses.half);
     put_f32(e + kMaterialEntryBytesV8, m.learned.law_longest_open_s);
     put_valve_timing(e + kMaterialEntryBytesV8 + 4, m.learned.valve);
+    put_dose_history(e + kMaterialEntryBytesV9, m.learned.doses);
   }
 }
 
 // An entry no console command can produce (a name not NUL-ended or not a name, a density or class
 // out of range) is dropped: the material is undefined, and a selection of it falls back to 0.
 // A version-6 table has no learned fields: every material starts with nothing learned; a version-7
-// one no top-up pulses' lessons; a version-8 one no valve timing.
+// one no top-up pulses' lessons; a version-8 one no valve timing; a version-9 one no last doses.
 MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, MaterialsInRecord materials) {
   MaterialTable table(parameters);
   const std::size_t entry_bytes = material_entry_bytes(materials);
   const bool with_learning = materials == MaterialsInRecord::learned || materials == MaterialsInRecord::pulses ||
-                             materials == MaterialsInRecord::valve;
-  const bool with_pulses = materials == MaterialsInRecord::pulses || materials == MaterialsInRecord::valve;
+                             materials == MaterialsInRecord::valve || materials == MaterialsInRecord::doses;
+  const bool with_pulses = materials == MaterialsInRecord::pulses || materials == MaterialsInRecord::valve ||
+                           materials == MaterialsInRecord::doses;
+  const bool with_valve = materials == MaterialsInRecord::valve || materials == MaterialsInRecord::doses;
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
     const std::uint8_t* e = p + 4 + entry_bytes * n;
     if (e[0] != 1) continue;
@@ -181,10 +211,11 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
       m.pulses.full = get_pulse_law(e + kMaterialEntryBytesV7);
       m.pulses.half = get_pulse_law(e + kMaterialEntryBytesV7 + kPulseLawLearningBytes);
     }
-    if (materials == MaterialsInRecord::valve) {
+    if (with_valve) {
       m.learned.law_longest_open_s = get_f32(e + kMaterialEntryBytesV8);
       m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8 + 4);
     }
+    if (materials == MaterialsInRecord::doses) m.learned.doses = get_dose_history(e + kMaterialEntryBytesV9);
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;
@@ -247,14 +278,16 @@ std::size_t encode_settings(const PersistentSettings& settings, std::uint8_t* ou
 bool decode_settings(const std::uint8_t* data, std::size_t length, PersistentSettings& settings) {
   if (length < 16 || get_u32(data) != kMagic) return false;
   const int version = data[4] | (data[5] << 8);
-  const std::size_t parameter_count = version == kVersion || version == kVersionBeforeValveTiming ||
+  const std::size_t parameter_count = version == kVersion || version == kVersionBeforeDoseHistory ||
+                                              version == kVersionBeforeValveTiming ||
                                               version == kVersionBeforePulses ||
                                               version == kVersionBeforeMaterialLearning
                                           ? kParameterCount
                                       : version == kVersionBeforeMaterials ? kParametersV5
                                       : version == kVersionBeforeTolerance ? kParametersV4
                                                                            : 0;
-  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::valve
+  const MaterialsInRecord materials = version == kVersion                         ? MaterialsInRecord::doses
+                                      : version == kVersionBeforeDoseHistory      ? MaterialsInRecord::valve
                                       : version == kVersionBeforeValveTiming      ? MaterialsInRecord::pulses
                                       : version == kVersionBeforePulses           ? MaterialsInRecord::learned
                                       : version == kVersionBeforeMaterialLearning ? MaterialsInRecord::table

@@ -7,9 +7,9 @@ namespace {
 
 constexpr std::uint32_t kSlotMagic = 0x4C535744;  // "DWSL"
 
-// The records of older firmware (versions 8, 7, 6, 5 and 4), and where their second slot lay: a
+// The records of older firmware (versions 9, 8, 7, 6, 5 and 4), and where their second slot lay: a
 // board updated from one still finds its settings (the next save writes today's layout).
-constexpr std::size_t kOlderRecordSizes[] = {kSettingsRecordSizeV8, kSettingsRecordSizeV7, kSettingsRecordSizeV6,
+constexpr std::size_t kOlderRecordSizes[] = {kSettingsRecordSizeV9, kSettingsRecordSizeV8, kSettingsRecordSizeV7, kSettingsRecordSizeV6,
                                              kSettingsRecordSizeV5, kSettingsRecordSizeV4};
 
 bool known_record_size(std::size_t payload) {

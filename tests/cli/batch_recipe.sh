@@ -31,11 +31,14 @@ def x1_initial_g(m):  # OIML R61 X(1), initial verification
     return 0.007 * m
 
 rows = list(csv.DictReader(open(path)))
-# Each ingredient is one opening of a valve (no top-ups: tol_action accept), and what it delivered
-# is the mass on the scale at the next opening (or the end) less that at its own.
+# Each ingredient is one opening of a valve and one more per top-up pulse its RESULT counts (a close
+# the model's plan aimed short is topped up whatever tol_action says), and what it delivered is the
+# mass on the scale at the next ingredient's first opening (or the end) less that at its own.
 opens = [i for i in range(1, len(rows)) if rows[i]["valve"] != "0" and rows[i - 1]["valve"] == "0"]
-assert len(opens) == 3, f"expected three valve openings, found {len(opens)}"
-marks = [float(rows[i]["static_kg"]) * 1000.0 for i in opens] + [float(rows[-1]["static_kg"]) * 1000.0]
+openings = [1 + int(r["topups"]) for r in results]
+assert len(opens) == sum(openings), f"expected {sum(openings)} valve openings, found {len(opens)}"
+firsts = [opens[sum(openings[:k])] for k in range(len(results))]
+marks = [float(rows[i]["static_kg"]) * 1000.0 for i in firsts] + [float(rows[-1]["static_kg"]) * 1000.0]
 failed = []
 for k, (target, result) in enumerate(zip(targets, results)):
     truth = marks[k + 1] - marks[k]

@@ -80,6 +80,8 @@ NvmFile prepare_nvm_file(const std::string& path, bool reset) {
     move_behind_settings(fd, path, kVersion7SettingsBytes, kVersion7FileBytes - kVersion7SettingsBytes);
   } else if (st.st_size == off_t(kVersion8FileBytes)) {
     move_behind_settings(fd, path, kVersion8SettingsBytes, kVersion8FileBytes - kVersion8SettingsBytes);
+  } else if (st.st_size == off_t(kVersion9FileBytes)) {
+    move_behind_settings(fd, path, kVersion9SettingsBytes, kVersion9FileBytes - kVersion9SettingsBytes);
   } else if (st.st_size != off_t(kNvmFileBytes)) {
     state = NvmFile::wrong_size;
   } else if (all_erased(fd)) {

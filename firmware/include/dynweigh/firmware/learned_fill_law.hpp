@@ -31,6 +31,8 @@ class LearnedFillLaw {
 
   bool knows_open_time_law() const { return learned_.open_time_law.fills > 0; }
   float final_at_open_g(float open_s) const { return law_.predict(open_s, 1.0f); }
+  // The open time at which the law delivers `final_g` (0 if its flow is none).
+  float open_s_for(float final_g) const;
   float law_flow_g_s() const { return law_.state().theta1; }
   float longest_open_s() const { return learned_.law_longest_open_s; }
   // Seconds of the flow at the close to add to a measured close's prediction that takes the valve to

@@ -10,9 +10,12 @@
 //   of the flow at the close, as the measured closes' finals showed it (the timing in use's
 //   let-through plus what the final came out above the model's prediction). It holds whatever
 //   the valve's timing in use is, datasheet or learned.
-// With them, the valve's timing as the doses of this material measured it (valve_timing_learning.hpp).
+// With them, the valve's timing as the doses of this material measured it (valve_timing_learning.hpp),
+// and the last few doses that ran full open, which tell how the fill grows with the open time where
+// the law's line does not (dose_history.hpp).
 #include <cstdint>
 
+#include "dynweigh/firmware/dose_history.hpp"
 #include "dynweigh/firmware/two_parameter_rls.hpp"
 #include "dynweigh/firmware/valve_timing_learning.hpp"
 
@@ -24,7 +27,10 @@ struct MaterialLearning {
   std::uint16_t residual_fills = 0;
   float law_longest_open_s = 0.0f;  // the longest open time the law was taught at (0: none known)
   ValveTimingLearning valve{};
-  bool empty() const { return open_time_law.fills == 0 && residual_fills == 0 && valve.empty(); }
+  DoseHistory doses{};
+  bool empty() const {
+    return open_time_law.fills == 0 && residual_fills == 0 && valve.empty() && doses.size() == 0;
+  }
 };
 
 }  // namespace dynweigh::firmware

@@ -32,8 +32,9 @@ class BasicModelCutoff {
     l.valve = valve_.learned();
     return l;
   }
-  // Called at the jiffy the valve is commanded open; weights are net grams on the scale.
-  void start(Scalar start_weight_g);
+  // Called at the jiffy the valve is commanded open; weights are net grams on the scale. The target
+  // tells where the doses the material kept are fitted (dose_history.hpp); 0: nowhere.
+  void start(Scalar start_weight_g, Scalar target_g = Scalar(0));
   // One unfiltered sample per jiffy; returns the predicted final fill (grams added by this dose)
   // if the valve were commanded closed now.
   Scalar observe(Scalar net_weight_g);
@@ -85,6 +86,11 @@ class BasicModelCutoff {
   BasicFinalWeightPredictor<Scalar> predictor_;
   LearnedFillLaw law_;
   bool timed_by_law_ = false;  // the last prediction came from the open-time law
+  static constexpr std::uint32_t kCurveFitJiffy = 2;
+  Scalar target_open_s_ = Scalar(0);     // the open time the law's line gives for the target
+  DoseHistory::PowerLaw near_target_{};  // the kept doses' curve near it
+  bool curve_fitted_ = false;
+  bool timed_by_curve_ = false;  // ... and the curve, above the law's line, gave it
   Scalar model_prediction_g_ = Scalar(0);  // the last, before the learn strategy's correction
   CloseRecord close_{};
 };

@@ -13,9 +13,8 @@ namespace dynweigh::hal::host {
 // The file: the two settings slots, then the logbook's ring of kFileLogbookSlots records (one
 // fewer kept), then the materials' totalizers' two slots. A file of an older version is grown: the
 // settings alone (kSettingsOnlyFileBytes), version-5 settings and the logbook (kVersion5FileBytes), or
-// version-6, version-7 or version-8 settings, the logbook and the totalizers (kVersion6FileBytes,
-// kVersion7FileBytes, kVersion8FileBytes), whose logbook and totalizers are moved behind today's
-// larger settings slots;
+// version-6 to version-9 settings, the logbook and the totalizers (kVersion6FileBytes to
+// kVersion9FileBytes), whose logbook and totalizers are moved behind today's larger settings slots;
 // its settings load as they are.
 inline constexpr std::size_t kFileLogbookSlots = 1001;
 inline constexpr std::size_t kFileLogbookOffset = firmware::kSettingsSlotsBytes;
@@ -34,6 +33,9 @@ inline constexpr std::size_t kVersion7FileBytes = kVersion7SettingsBytes + kNvmF
 inline constexpr std::size_t kVersion8SettingsBytes =
     firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV8);
 inline constexpr std::size_t kVersion8FileBytes = kVersion8SettingsBytes + kNvmFileBytes - kFileLogbookOffset;
+inline constexpr std::size_t kVersion9SettingsBytes =
+    firmware::kSlotCount * (firmware::kSlotHeaderSize + firmware::kSettingsRecordSizeV9);
+inline constexpr std::size_t kVersion9FileBytes = kVersion9SettingsBytes + kNvmFileBytes - kFileLogbookOffset;
 
 // The file as a byte-addressed memory of kNvmFileBytes; bytes never written read as erased (0xFF).
 class FileNvm final : public firmware::NvmBlock {

@@ -1,0 +1,73 @@
+#include "dynweigh/firmware/dose_history.hpp"
+
+#include <cmath>
+
+namespace dynweigh::firmware {
+namespace {
+constexpr float kSecondsPerUnit = 1e-4f;
+constexpr float kLargestUnits = 65535.0f;
+constexpr float kLeastK = 1.0f;
+constexpr float kMostK = 4.0f;
+constexpr float kPriorK = 2.0f;  // doses all at one open time tell no slope: a gate opening halfway
+constexpr float kLeastWeight = 1e-3f;
+}  // namespace
+
+float DoseHistory::PowerLaw::fill_g(float open_s) const {
+  return valid && open_s > 0.0f ? std::exp(log_a + k * std::log(open_s)) : 0.0f;
+}
+
+float DoseHistory::PowerLaw::growth_g_per_s(float open_s) const {
+  return valid && open_s > 0.0f ? k * fill_g(open_s) / open_s : 0.0f;
+}
+
+void DoseHistory::add(float open_s, float final_g) {
+  const float units = std::round(open_s / kSecondsPerUnit), grams = std::round(final_g);
+  if (!(units >= 1.0f && units <= kLargestUnits && grams >= kLightestG && grams <= kLargestUnits)) return;
+  entries_[next_] = Entry{std::uint16_t(units), std::uint16_t(grams)};
+  next_ = std::uint8_t((next_ + 1) % kDoses);
+  if (count_ < kDoses) ++count_;
+}
+
+bool DoseHistory::restore(const Entry (&entries)[kDoses], std::uint8_t count, std::uint8_t next) {
+  if (count > kDoses || next >= kDoses || (count < kDoses && next != count)) return false;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (entries[i].open_100us == 0 || float(entries[i].final_g) < kLightestG) return false;
+  }
+  for (std::size_t i = 0; i < kDoses; ++i) entries_[i] = i < count ? entries[i] : Entry{};
+  count_ = count;
+  next_ = next;
+  return true;
+}
+
+// Weighted least squares of ln(fill) on ln(t), the weights a Gaussian in ln(t) about `open_s`.
+DoseHistory::PowerLaw DoseHistory::near(float open_s) const {
+  PowerLaw law;
+  if (count_ < 2 || !(open_s > 0.0f)) return law;
+  const float x0 = std::log(open_s);
+  float x[kDoses], y[kDoses], w[kDoses];
+  float sw = 0.0f, sx = 0.0f, sy = 0.0f;
+  for (std::size_t i = 0; i < count_; ++i) {
+    x[i] = std::log(float(entries_[i].open_100us) * kSecondsPerUnit);
+    y[i] = std::log(float(entries_[i].final_g));
+    const float d = (x[i] - x0) / kNearness;
+    w[i] = std::exp(-d * d);
+    sw += w[i];
+    sx += w[i] * x[i];
+    sy += w[i] * y[i];
+  }
+  if (!(sw > kLeastWeight)) return law;
+  const float mx = sx / sw, my = sy / sw;
+  float sxx = 0.0f, sxy = 0.0f;
+  for (std::size_t i = 0; i < count_; ++i) {
+    sxx += w[i] * (x[i] - mx) * (x[i] - mx);
+    sxy += w[i] * (x[i] - mx) * (y[i] - my);
+  }
+  float k = sxx > 1e-4f * sw ? sxy / sxx : kPriorK;
+  k = k < kLeastK ? kLeastK : (k > kMostK ? kMostK : k);
+  law.valid = std::isfinite(k) && std::isfinite(my - k * mx);
+  law.k = k;
+  law.log_a = my - k * mx;
+  return law;
+}
+
+}  // namespace dynweigh::firmware
