@@ -357,28 +357,21 @@ TEST(MaterialLearningRecord, ADoseHistoryNoDoseCanLeaveIsDropped) {
   firmware::encode_settings(settings, record.data(), record.size());
   const std::size_t history = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes + 4 +
                               firmware::kMaterialEntryBytesV9;
-  auto corrupt_and_load = [&](std::size_t offset, std::uint8_t value) {
+  // The record with these bytes of the first material's history changed, its CRC made good again.
+  auto load_with = [&](std::initializer_list<std::pair<std::size_t, std::uint8_t>> changes) {
     std::vector<std::uint8_t> bad = record;
-    bad[history + offset] = value;
-    for (int i = 0; i < 4; ++i) bad[12 + std::size_t(i)] = 0;
+    for (const auto& [offset, value] : changes) bad[history + offset] = value;
     const std::uint32_t crc = firmware::crc32(bad.data() + 16, bad.size() - 16) ^ firmware::crc32(bad.data(), 12);
     for (int i = 0; i < 4; ++i) bad[12 + std::size_t(i)] = std::uint8_t(crc >> (8 * i));
     PersistentSettings loaded;
     EXPECT_TRUE(firmware::decode_settings(bad.data(), bad.size(), loaded));
     return loaded.materials.at(0).learned;
   };
-  EXPECT_EQ(corrupt_and_load(0, 3).doses.size(), 3u);  // as written: the record itself is sound
-  EXPECT_EQ(corrupt_and_load(0, 9).doses.size(), 0u);  // nine doses in eight slots
-  EXPECT_EQ(corrupt_and_load(1, 8).doses.size(), 0u);  // the next slot out of range
-  EXPECT_EQ(corrupt_and_load(1, 1).doses.size(), 0u);  // three doses, the next going into the second
-  const firmware::MaterialLearning zero_open = [&] {
-    std::vector<std::uint8_t> keep = record;
-    record[history + 4] = 0;
-    record[history + 5] = 0;
-    const firmware::MaterialLearning l = corrupt_and_load(0, 3);
-    record = keep;
-    return l;
-  }();
+  EXPECT_EQ(load_with({{0, 3}}).doses.size(), 3u);  // as written: the record itself is sound
+  EXPECT_EQ(load_with({{0, 9}}).doses.size(), 0u);  // nine doses in eight slots
+  EXPECT_EQ(load_with({{1, 8}}).doses.size(), 0u);  // the next slot out of range
+  EXPECT_EQ(load_with({{1, 1}}).doses.size(), 0u);  // three doses, the next going into the second
+  const firmware::MaterialLearning zero_open = load_with({{4, 0}, {5, 0}});  // the first dose's open time
   EXPECT_EQ(zero_open.doses.size(), 0u);
   EXPECT_EQ(zero_open.open_time_law.fills, 3u);
 }

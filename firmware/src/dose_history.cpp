@@ -16,8 +16,8 @@ float DoseHistory::PowerLaw::fill_g(float open_s) const {
   return valid && open_s > 0.0f ? std::exp(log_a + k * std::log(open_s)) : 0.0f;
 }
 
-float DoseHistory::PowerLaw::growth_g_per_s(float open_s) const {
-  return valid && open_s > 0.0f ? k * fill_g(open_s) / open_s : 0.0f;
+float DoseHistory::PowerLaw::growth_g_per_s(float open_s, float fill_there_g) const {
+  return valid && open_s > 0.0f ? k * fill_there_g / open_s : 0.0f;
 }
 
 void DoseHistory::add(float open_s, float final_g) {

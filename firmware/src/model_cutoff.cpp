@@ -104,7 +104,9 @@ template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::growth_per_jiffy_g() const {
   if (!timed_by_law_) return predictor_.growth_per_jiffy_g();
   const float line_g_s = law_.law_flow_g_s();
-  const float curve_g_s = timed_by_curve_ ? near_target_.growth_g_per_s(float(open_s())) : 0.0f;
+  // The curve's prediction is the one observe() returned: its growth follows from it.
+  const float curve_g_s =
+      timed_by_curve_ ? near_target_.growth_g_per_s(float(open_s()), float(model_prediction_g_)) : 0.0f;
   return Scalar(curve_g_s > line_g_s ? curve_g_s : line_g_s) * jiffy_s_;
 }
 

@@ -193,11 +193,10 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
 MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters, MaterialsInRecord materials) {
   MaterialTable table(parameters);
   const std::size_t entry_bytes = material_entry_bytes(materials);
-  const bool with_learning = materials == MaterialsInRecord::learned || materials == MaterialsInRecord::pulses ||
-                             materials == MaterialsInRecord::valve || materials == MaterialsInRecord::doses;
-  const bool with_pulses = materials == MaterialsInRecord::pulses || materials == MaterialsInRecord::valve ||
-                           materials == MaterialsInRecord::doses;
-  const bool with_valve = materials == MaterialsInRecord::valve || materials == MaterialsInRecord::doses;
+  // Each version keeps what the one before it kept, and more (MaterialsInRecord is in that order).
+  const bool with_learning = materials >= MaterialsInRecord::learned;
+  const bool with_pulses = materials >= MaterialsInRecord::pulses;
+  const bool with_valve = materials >= MaterialsInRecord::valve;
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
     const std::uint8_t* e = p + 4 + entry_bytes * n;
     if (e[0] != 1) continue;
@@ -215,7 +214,7 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
       m.learned.law_longest_open_s = get_f32(e + kMaterialEntryBytesV8);
       m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8 + 4);
     }
-    if (materials == MaterialsInRecord::doses) m.learned.doses = get_dose_history(e + kMaterialEntryBytesV9);
+    if (materials >= MaterialsInRecord::doses) m.learned.doses = get_dose_history(e + kMaterialEntryBytesV9);
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;

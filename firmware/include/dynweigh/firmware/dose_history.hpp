@@ -40,8 +40,9 @@ class DoseHistory {
     float log_a = 0.0f;
     float k = 0.0f;
     float fill_g(float open_s) const;
-    // d fill / d t at `open_s`.
-    float growth_g_per_s(float open_s) const;
+    // d fill / d t at `open_s`; given the fill there (fill_g(open_s)), without working it out again.
+    float growth_g_per_s(float open_s) const { return growth_g_per_s(open_s, fill_g(open_s)); }
+    float growth_g_per_s(float open_s, float fill_there_g) const;
   };
 
   // A certified dose that ran full open for `open_s` and delivered `final_g`: the oldest makes room.

@@ -64,7 +64,7 @@ inline constexpr std::size_t kMaterialTableBytes = material_table_bytes(kMateria
 // What a record holds after the baselines: nothing (version 5 and older), the material table
 // (version 6), the table with what each material's fills learned (version 7), what its top-up
 // pulses learned (version 8), the valve's timing its doses measured (version 9), and its last doses
-// (version 10).
+// (version 10). In that order: each keeps what the one before it kept.
 enum class MaterialsInRecord : std::uint8_t { none, table, learned, pulses, valve, doses };
 constexpr std::size_t material_entry_bytes(MaterialsInRecord materials) {
   return materials == MaterialsInRecord::doses     ? kMaterialEntryBytes
