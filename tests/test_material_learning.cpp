@@ -485,7 +485,7 @@ TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
   EXPECT_LE(std::abs(errors[0]), x1_limit_g(2000.0));
 }
 
-// A 100 mm bore (about 8 kg/s) behind a gate that takes 300 ms to open: every 500 g and 1 kg fill
+// A 100 mm bore (8.7 kg/s by Beverloo) behind a gate that takes 300 ms to open: every 500 g and 1 kg fill
 // closes with the gate part open, where the fill grows about as the cube of the open time. The first
 // two 500 g fills (on the prior, then on a law of one point) aim short and are topped up; the law's
 // line through them, carried to the third fill's longer open time, predicted too little: that fill
