@@ -14,12 +14,15 @@ namespace {
 using Predictor = BasicFinalWeightPredictor<double>;
 using Config = FinalWeightPredictorConfig<double>;
 
-DoseValveTiming<double> datasheet_timing() {
+BasicLearnedValveTiming<double> datasheet_valve() {
   BasicLearnedValveTiming<double> valve;
   valve.configure(ValveDatasheet<double>{}, Config{}.material, Config{}.bore_m);
   valve.start_dose();
-  return valve.in_use();
+  return valve;
 }
+
+DoseValveTiming<double> datasheet_timing() { return datasheet_valve().in_use(); }
+const model::GateFlowShape<double> kShape = datasheet_valve().gate_flow_shape();
 
 Predictor started(const Config& config, double start_weight_g = 0.0) {
   Predictor p;
@@ -36,7 +39,7 @@ TEST(FinalWeightPredictor, TheConfigDefaultsAreTheParameterDefaults) {
   cutoff.start(0.0);
   const Predictor predictor = started(Config{});
   for (std::uint32_t jiffy = 1; jiffy <= 5; ++jiffy) {
-    EXPECT_NEAR(cutoff.observe(0.0), predictor.from_prior(jiffy), 1e-3) << "jiffy " << jiffy;
+    EXPECT_NEAR(cutoff.observe(0.0), predictor.from_prior(jiffy, kShape), 1e-3) << "jiffy " << jiffy;
   }
   EXPECT_NEAR(cutoff.settle_delay_s(), predictor.settle_delay_s(), 1e-9);
   for (const double on_scale_g : {0.0, 5000.0, 30000.0}) {
@@ -44,20 +47,47 @@ TEST(FinalWeightPredictor, TheConfigDefaultsAreTheParameterDefaults) {
   }
 }
 
-// Before the stream is measured: the let-through alone, then the prior flow once the valve's
-// opening delay has passed.
-TEST(FinalWeightPredictor, ThePriorGrowsAtThePriorFlowAfterTheOpeningDelay) {
+// Before the stream is measured: once the gate has travelled its stroke, the prior flow's open time
+// less the flow missing at the opening, plus the let-through at the close.
+TEST(FinalWeightPredictor, ThePriorGrowsAtThePriorFlowOnceTheGateIsFullOpen) {
   const Config config;
   const Predictor p = started(config);
   const DoseValveTiming<double> timing = datasheet_timing();
   const double prior_g_s = 1000.0 * p.prior_rate_kg_s();
-  EXPECT_NEAR(p.from_prior(1), prior_g_s * timing.full_closing_flow_s, 1e-9);
-  EXPECT_NEAR(p.from_prior(101) - p.from_prior(100), prior_g_s * config.jiffy_s, 1e-9);
+  EXPECT_NEAR(p.from_prior(101, kShape), prior_g_s * (1.0 - timing.opening_delay_s + timing.full_closing_flow_s), 1e-9);
+  EXPECT_NEAR(p.from_prior(101, kShape) - p.from_prior(100, kShape), prior_g_s * config.jiffy_s, 1e-9);
+  EXPECT_NEAR(p.prior_growth_per_jiffy_g(100, kShape), prior_g_s * config.jiffy_s, 1e-9);
   EXPECT_NEAR(p.growth_per_jiffy_g(), prior_g_s * config.jiffy_s, 1e-9);
   // A larger bore brings more.
   Config wide = config;
   wide.bore_m = 2.0 * config.bore_m;
   EXPECT_GT(started(wide).prior_rate_kg_s(), 4.0 * p.prior_rate_kg_s());
+}
+
+// A close commanded before the gate has travelled its stroke (80 ms on the datasheet): the gate goes
+// on opening for the dead time, to the share of its stroke the open time is, and closes from there.
+// With a flow in proportion to the stroke that passes t^2 / stroke seconds of the full flow: 20 ms
+// open lets 5 ms of it through, not the 20 ms less the flow missing at the opening the full-open
+// reckoning would give (nothing at all, or the whole let-through at once). Continuous at full stroke.
+TEST(FinalWeightPredictor, ACloseBeforeTheGateIsFullOpenPassesWhatItsPartialStrokeLetsThrough) {
+  const Config config;
+  const Predictor p = started(config);
+  const DoseValveTiming<double> timing = datasheet_timing();
+  ASSERT_NEAR(timing.stroke_s, 0.08, 1e-12);
+  const double prior_g_s = 1000.0 * p.prior_rate_kg_s();
+  const auto proportional = model::GateFlowShape<double>::proportional();
+  EXPECT_NEAR(p.from_prior(1, proportional), 0.0, 1e-12);  // commanded shut as it was opened: nothing moves
+  EXPECT_NEAR(p.from_prior(3, proportional), prior_g_s * 0.02 * 0.02 / 0.08, 1e-9);
+  EXPECT_NEAR(p.prior_growth_per_jiffy_g(3, proportional), prior_g_s * 0.01 * 2.0 * 0.25, 1e-9);
+  // The real gate's flow grows faster than its stroke: less still passes part-way.
+  EXPECT_LT(p.from_prior(3, kShape), p.from_prior(3, proportional));
+  EXPECT_GT(p.from_prior(3, kShape), 0.0);
+  for (const auto& shape : {proportional, kShape}) {
+    const double before = p.from_prior(8, shape), at_end = p.from_prior(9, shape), after = p.from_prior(10, shape);
+    EXPECT_NEAR(at_end, prior_g_s * (0.08 - timing.opening_delay_s + timing.full_closing_flow_s), 1e-9);
+    EXPECT_LT(before, at_end);
+    EXPECT_NEAR(after - at_end, prior_g_s * config.jiffy_s, 1e-9);
+  }
 }
 
 // The ideal model's corrected sign: closed now, the fill ends mdot v0 / g below the reading (the
@@ -114,12 +144,12 @@ TEST(FinalWeightPredictor, TheFineFeedGrowsAtTheHalfOpenFlow) {
   p.switch_to_half(predicted, 300);
   EXPECT_TRUE(p.fine_feeding());
   EXPECT_NEAR(p.growth_per_jiffy_g(), rate_g_per_jiffy * timing.half_flow_ratio, 1e-12);
-  EXPECT_NEAR(p.from_prior(310) - p.from_prior(300), 10.0 * rate_g_per_jiffy * timing.half_flow_ratio, 1e-9);
+  EXPECT_NEAR(p.from_prior(310, kShape) - p.from_prior(300, kShape), 10.0 * rate_g_per_jiffy * timing.half_flow_ratio, 1e-9);
   EXPECT_NEAR(settle_full_s - p.settle_delay_s(), timing.stroke_s / 2.0, 1e-12);
   // The half-open stream reaches the pile a fall after the valve is at half.
   EXPECT_GT(p.half_stream_landing_s(), timing.half_transition_s + 0.2);
   // Less flow to let through from half open than from full: the prediction at the switch drops.
-  EXPECT_LT(p.from_prior(300), predicted);
+  EXPECT_LT(p.from_prior(300, kShape), predicted);
 }
 
 TEST(FinalWeightPredictor, TheLastGrainsFallFromRestAfterTheValveHasShut) {

@@ -42,15 +42,35 @@ void BasicFinalWeightPredictor<Scalar>::start(Scalar start_weight_g, const DoseV
 }
 
 template <typename Scalar>
-Scalar BasicFinalWeightPredictor<Scalar>::from_prior(std::uint32_t jiffies) const {
+Scalar BasicFinalWeightPredictor<Scalar>::stroke_reached(Scalar open_s) const {
+  // The gate starts and stops moving one dead time after its commands: a close at `open_s` stops it
+  // at open_s / stroke of the way.
+  return timing_.stroke_s > open_s ? open_s / timing_.stroke_s : Scalar(1);
+}
+
+template <typename Scalar>
+Scalar BasicFinalWeightPredictor<Scalar>::from_prior(std::uint32_t jiffies,
+                                                     const model::GateFlowShape<Scalar>& shape) const {
   if (fine_) {
     const Scalar since_switch = Scalar(jiffies - switch_jiffy_);
     return predicted_at_switch_g_ + since_switch * measured_full_rate_g_per_jiffy_ * timing_.half_flow_ratio;
   }
   // The sample of the n-th jiffy shows n - 1 jiffies of the valve's being open.
   const Scalar open_s = Scalar(jiffies - 1) * jiffy_s_;
+  const Scalar full_flow_g_s = Scalar(1000) * prior_rate_kg_s_;
+  const Scalar reached = stroke_reached(open_s);
+  if (reached < Scalar(1)) return full_flow_g_s * shape.ramps_seconds(reached, timing_.stroke_s);
   const Scalar flowing_s = std::fmax(Scalar(0), open_s - timing_.opening_delay_s);
-  return Scalar(1000) * prior_rate_kg_s_ * (flowing_s + geometry_.closing_flow_seconds);
+  return full_flow_g_s * (flowing_s + geometry_.closing_flow_seconds);
+}
+
+template <typename Scalar>
+Scalar BasicFinalWeightPredictor<Scalar>::prior_growth_per_jiffy_g(std::uint32_t jiffies,
+                                                                   const model::GateFlowShape<Scalar>& shape) const {
+  if (fine_) return growth_per_jiffy_g_;
+  const Scalar reached = stroke_reached(Scalar(jiffies - 1) * jiffy_s_);
+  const Scalar full_g_per_jiffy = Scalar(1000) * prior_rate_kg_s_ * jiffy_s_;
+  return reached < Scalar(1) ? Scalar(2) * shape.flow_at(reached) * full_g_per_jiffy : full_g_per_jiffy;
 }
 
 template <typename Scalar>

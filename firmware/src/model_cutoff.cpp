@@ -85,7 +85,7 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
     return model_prediction_g_;
   }
   if (!estimator_.measuring()) {
-    model_prediction_g_ = predictor_.from_prior(estimator_.jiffies());
+    model_prediction_g_ = predictor_.from_prior(estimator_.jiffies(), valve_.gate_flow_shape());
     return model_prediction_g_;
   }
   if (!estimator_.uses_observer()) {
@@ -102,6 +102,9 @@ Scalar BasicModelCutoff<Scalar>::observe(Scalar net_weight_g) {
 
 template <typename Scalar>
 Scalar BasicModelCutoff<Scalar>::growth_per_jiffy_g() const {
+  if (!timed_by_law_ && !estimator_.measuring()) {
+    return predictor_.prior_growth_per_jiffy_g(estimator_.jiffies(), valve_.gate_flow_shape());
+  }
   if (!timed_by_law_) return predictor_.growth_per_jiffy_g();
   const float line_g_s = law_.law_flow_g_s();
   // The curve's prediction is the one observe() returned: its growth follows from it.

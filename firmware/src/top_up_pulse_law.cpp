@@ -68,8 +68,7 @@ void TopUpPulseLaw::begin(float full_flow_g_s, float half_flow_ratio, float stro
 // What flows while the gate opens to `stroke` and closes again, in seconds of the flow at the law's
 // position.
 float TopUpPulseLaw::ramps_s(const Law& law, float stroke) const {
-  const float full_stroke_s = law.travel_s / law.end_stroke;
-  return 2.0f * full_stroke_s * shape_.integral_to(stroke) / shape_.flow_at(law.end_stroke);
+  return shape_.ramps_seconds(stroke, law.travel_s / law.end_stroke) / shape_.flow_at(law.end_stroke);
 }
 
 float TopUpPulseLaw::open_seconds(const Law& law, float pulse_s) const {

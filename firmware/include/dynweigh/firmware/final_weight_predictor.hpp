@@ -10,6 +10,7 @@
 #include "dynweigh/firmware/learned_valve_timing.hpp"
 #include "dynweigh/model/beverloo.hpp"
 #include "dynweigh/model/final_weight_prediction.hpp"
+#include "dynweigh/model/gate_flow_shape.hpp"
 
 namespace dynweigh::firmware {
 
@@ -42,7 +43,13 @@ class BasicFinalWeightPredictor {
 
   // Each returns the fill (grams added by this dose) if the valve were commanded closed now.
   // Before the stream is measured: `jiffies` since the open command at the prior (or fine) flow.
-  Scalar from_prior(std::uint32_t jiffies) const;
+  // A close commanded before the gate has travelled its stroke lets through only what the partial
+  // stroke passes (`shape`: how the flow grows along the stroke).
+  Scalar from_prior(std::uint32_t jiffies, const model::GateFlowShape<Scalar>& shape) const;
+  // How much from_prior() grows in the jiffy after `jiffies`: while the gate is still opening,
+  // twice the flow at the stroke it has reached (a later close opens it further and closes it from
+  // higher); the prior flow once it is full open.
+  Scalar prior_growth_per_jiffy_g(std::uint32_t jiffies, const model::GateFlowShape<Scalar>& shape) const;
   // From the observer: the reading without the ringing, the landing rate now and its mean.
   Scalar from_observer(Scalar equilibrium_g, Scalar rate_g_per_jiffy, Scalar mean_rate_g_per_jiffy);
   // From a line fitted to the unfiltered weight: its value at the newest sample and its slope.
@@ -75,6 +82,8 @@ class BasicFinalWeightPredictor {
   Scalar full_area_m2_ = Scalar(0);
   Scalar jiffy_s_ = Scalar(0.01);
   Scalar prior_rate_kg_s_ = Scalar(0);
+  // The share of its stroke the gate reaches for a close at `open_s`; 1 once it is full open.
+  Scalar stroke_reached(Scalar open_s) const;
   DoseValveTiming<Scalar> timing_{};
   Scalar closing_duration_s_ = Scalar(0);
 

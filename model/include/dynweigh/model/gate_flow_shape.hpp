@@ -32,6 +32,12 @@ struct GateFlowShape {
 
   Scalar flow_at(Scalar stroke) const { return interpolate(flow, stroke); }
   Scalar integral_to(Scalar stroke) const { return interpolate(integral, stroke); }
+  // A gate commanded closed before it reached its end goes on opening for the dead time, to
+  // `reached` of its stroke, and closes from there as fast: what passes, in seconds of the full-open
+  // flow, for a gate that takes `full_stroke_s` to travel the whole stroke.
+  Scalar ramps_seconds(Scalar reached, Scalar full_stroke_s) const {
+    return Scalar(2) * full_stroke_s * integral_to(reached);
+  }
 
   // The stroke up to which the flow's integral is `value` (the integral rises with the stroke).
   Scalar stroke_for_integral(Scalar value) const {
