@@ -12,6 +12,7 @@
 #include "dynweigh/firmware/dose_plan.hpp"
 #include "dynweigh/firmware/pulse_verdict.hpp"
 #include "dynweigh/firmware/top_up_pulse_law.hpp"
+#include "dynweigh/model/beverloo.hpp"
 #include "dynweigh/model/fluctuation_average.hpp"
 #include "dynweigh/model/gate_flow_shape.hpp"
 #include "dynweigh/model/oiml_r61_class.hpp"
@@ -369,13 +370,67 @@ TEST(TopUpPulseLaw, APulseShorterThanTheStrokeIsSizedFromTheGatesShape) {
   EXPECT_GT(std::fabs(delivered(proportional) - 20.0f), mean_limit_g);
 }
 
+// A 100 mm bore (Beverloo's sand: some 9 kg/s) behind a gate that takes 200 ms to open, 300 g
+// missing. Whichever way the valve opens, the jitter of its timing (5 ms here) moves where the gate
+// turns back and when it is shut again. Half open, the pulse holds the gate at half open's flow;
+// full open, a pulse of the same mass turns further up the stroke, where more flows. So the pulses
+// open half, and their mass is off by less than a full-open pulse's would be. Only a deficit that
+// even the longest pulse could not bring at half open's flow is pulsed full open.
+TEST(TopUpPulseLaw, PulsesOpenTheValveHalfWhereTheLongestHalfOpenPulseCanBringTheDeficit) {
+  using firmware::ValveCommand;
+  constexpr float kStrokeS = 0.2f, kJitterS = 0.005f, kLongestS = 2.0f;
+  const model::BeverlooMaterial<float> sand{};
+  const model::GateFlowShape<float> gate = model::gate_flow_shape(sand, 9.81f, 0.1f);
+  const float full_g_s = 1000.0f * model::beverloo_discharge_kg_s(sand, 9.81f, 0.1f);
+  const float half_ratio = gate.flow_at(0.5f);
+  // What a pulse of `seconds` delivers on this gate when its closing comes `late_s` late.
+  const auto delivered = [&](ValveCommand command, float seconds, float late_s) {
+    const float end = command == ValveCommand::half ? 0.5f : 1.0f, travel = end * kStrokeS;
+    const float open_s = seconds + late_s;
+    const float reached = open_s < travel ? end * open_s / travel : end;
+    const float held = open_s > travel ? (open_s - travel) * gate.flow_at(end) : 0.0f;
+    return full_g_s * (2.0f * kStrokeS * gate.integral_to(reached) + held);
+  };
+  const auto started = [&]() {
+    firmware::TopUpPulseLaw law;
+    law.begin(full_g_s, half_ratio, kStrokeS, kLongestS, gate);
+    law.observe_dose(0.5f, delivered(ValveCommand::open, 0.5f, 0.0f));  // the dose told the full flow
+    return law;
+  };
+  firmware::TopUpPulseLaw law = started();
+  const firmware::TopUpPulseLaw::Pulse pulse = law.size(300.0f);
+  ASSERT_EQ(pulse.command, ValveCommand::half);
+  const float mass_g = delivered(pulse.command, pulse.seconds, 0.0f);
+  // The full-open pulse that delivers as much (bisection: the mass grows with the pulse).
+  float short_s = 0.0f, long_s = kLongestS;
+  for (int i = 0; i < 40; ++i) {
+    const float mid = 0.5f * (short_s + long_s);
+    (delivered(ValveCommand::open, mid, 0.0f) < mass_g ? short_s : long_s) = mid;
+  }
+  const auto spread_g = [&](ValveCommand command, float seconds) {
+    return 0.5f * (delivered(command, seconds, kJitterS) - delivered(command, seconds, -kJitterS));
+  };
+  const float half_spread = spread_g(ValveCommand::half, pulse.seconds);
+  const float full_spread = spread_g(ValveCommand::open, long_s);
+  std::printf("300 g missing, %.0f g/s: half open %.0f ms for %.0f g, +-%.1f g per 5 ms; full open %.0f ms, "
+              "+-%.1f g\n",
+              double(full_g_s), 1000.0 * double(pulse.seconds), double(mass_g), double(half_spread),
+              1000.0 * double(long_s), double(full_spread));
+  EXPECT_LT(half_spread, 0.75f * full_spread);
+
+  firmware::TopUpPulseLaw large = started();
+  const float beyond_half_g = 1.2f * kLongestS * half_ratio * full_g_s;
+  EXPECT_EQ(large.size(beyond_half_g).command, ValveCommand::open);
+}
+
 // The family's plant random-6 (seed 1), installed as the bench does (geometry true, density a guess,
 // the valve at its datasheet defaults: 80 ms stroke): its valve takes 299 ms to open and its bore
 // passes 11.6 kg/s, so its 500 g and 1 kg fills close before the valve is open and every top-up
-// pulse stops far short of full open. Sized with the datasheet's travel, the pulses delivered a
+// pulse stops far short of its position. Sized with the datasheet's travel, the pulses delivered a
 // fraction of what they were meant to, and the 1 kg fills after six at 500 g ended short, on average
-// by more than X(2) allows (X(5)). The pulses teach the travel (from 80 ms towards 299), and those
-// fills are within X(2).
+// by more than X(2) allows (X(5)). The pulses teach the travel (from 80 ms towards 299), and the
+// 1 kg fills they finish end within X(1), their mean within the quarter of the in-service limit that
+// X(1) allows the mean. (A fill whose close was over needs no pulse: the pulses answer for the others.)
 TEST(TopUp, PulsesOnAValveSlowerThanItsDatasheetTeachItsTravel) {
   const sim::FamilyPlant plant = sim::draw_family_plant(1, 5);  // the bench's random-6
   const sim::Scene& s = plant.scene;
@@ -388,31 +443,30 @@ TEST(TopUp, PulsesOnAValveSlowerThanItsDatasheetTeachItsTravel) {
   param("container_mm", s.column.container_diameter_m * 1000.0);
   param("density", plant.density_guess);
   c.idle(100);
-  std::vector<double> steady_errors_g;
+  std::vector<double> topped_up_errors_g;
   for (const double target_g : {500.0, 1000.0}) {
     for (int fill = 1; fill <= 6; ++fill) {
       const Dose d = dose(c, target_g);
       ASSERT_FALSE(d.result.empty());
       std::printf("%.0f g, fill %d: %+.1f g, %s topups\n", target_g, fill, d.true_error_g,
                   field(d.result, "topups").c_str());
-      if (target_g == 1000.0 && fill > 1) steady_errors_g.push_back(d.true_error_g);
+      if (target_g == 1000.0 && fill > 1 && field(d.result, "topups") != "0") topped_up_errors_g.push_back(d.true_error_g);
     }
   }
-  double bias_g = 0.0, deviation_g = 0.0;
-  for (const double e : steady_errors_g) bias_g += e / double(steady_errors_g.size());
-  for (const double e : steady_errors_g) deviation_g = std::max(deviation_g, std::fabs(e - bias_g));
-  const double steady_class = model::best_oiml_class(1000.0, deviation_g, bias_g);
+  double mean_g = 0.0;
+  for (const double e : topped_up_errors_g) mean_g += e / double(topped_up_errors_g.size());
   const firmware::TopUpPulseLearning& kept = c.session().indicator().settings().materials.at(0).pulses;
   const float datasheet_s = 0.08f;
   const float full_s = kept.full.pulses > 0 ? kept.full.travel_s : 0.0f;
   const float half_s = kept.half.pulses > 0 ? 2.0f * kept.half.travel_s : 0.0f;
   std::printf("travel learned: full open %.0f ms, half open (as a full stroke) %.0f ms; true %.0f ms\n",
               1000.0 * double(full_s), 1000.0 * double(half_s), 1000.0 * s.valve.full_stroke_s);
-  std::printf("1 kg fills 2-6: bias %+.1f g, largest deviation from their mean %.1f g: X(%g)\n", bias_g,
-              deviation_g, steady_class);
+  std::printf("1 kg fills 2-6 topped up: %zu, their mean %+.1f g\n", topped_up_errors_g.size(), mean_g);
   EXPECT_GT(full_s > half_s ? full_s : half_s, 1.5f * datasheet_s);
-  EXPECT_GT(steady_class, 0.0);
-  EXPECT_LE(steady_class, 2.0);
+  ASSERT_GE(topped_up_errors_g.size(), 3u);
+  const model::OimlR61Limits<double> x1 = model::oiml_r61_x1_limits(1000.0);
+  for (const double e : topped_up_errors_g) EXPECT_LE(std::fabs(e), x1.initial_verification_g);
+  EXPECT_LE(std::fabs(mean_g), x1.in_service_g / 4.0);
 }
 
 // A pulse the scale saw nothing of ends the top-up (a frozen reading, an empty silo), unless the pulse

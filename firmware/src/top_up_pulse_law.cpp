@@ -17,8 +17,6 @@ constexpr float kLossMaxS = 0.2f;
 constexpr float kPulseNoiseG = 1.0f;
 constexpr float kShortestPulseS = 0.001f;
 constexpr float kAimSigmas = 2.0f;
-// Full open only where twice the valve's jitter at full flow is less than this share of the deficit.
-constexpr float kFullOpenJitterShare = 0.5f;
 // A pulse's lesson weighs as much as the last ten's: the law follows the silo's level and the valve.
 constexpr float kForgetting = 0.9f;
 // No valve takes 10 s to travel: a stored law that says so is no law.
@@ -208,10 +206,12 @@ float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, bool last) const {
   return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
 }
 
+// Half open, unless the longest pulse at half open's flow could not bring what is missing (and the
+// dose told the full-open flow): a pulse's mass is off by the valve's timing jitter times the flow
+// where the gate turns back, and half open never turns above half open's flow.
 void TopUpPulseLaw::choose(float deficit_g) {
-  // Full open where its timing jitter is a small part of the deficit, and the dose told its flow.
-  const float jitter_g = kAimSigmas * kJitterS * full_.rls.state().theta1;
-  half_open_ = !(full_.seen > 0 && jitter_g < kFullOpenJitterShare * deficit_g) && half_.prior_flow_g_s > 0.0f;
+  const bool half_can = deficit_g <= max_pulse_s_ * half_.rls.state().theta1;
+  half_open_ = (half_can || full_.seen == 0) && half_.prior_flow_g_s > 0.0f;
   chosen_ = true;
 }
 

@@ -24,9 +24,12 @@
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit: short of it, every such fill would end short by
-// what the aim held back, a bias no later pulse corrects. Where the
-// jitter at full flow is a large part of the deficit (or the dose told nothing of the full flow),
-// the pulses open the valve half: less flow, a shorter travel, a finer pulse.
+// what the aim held back, a bias no later pulse corrects.
+// The pulses open the valve half, unless even the longest pulse allowed could not bring the deficit
+// at half open's flow. A pulse's mass is off by the valve's timing jitter times the flow where the
+// gate turns back (the jitter moves both the turn and the closing ramp that follows it). A
+// full-open pulse of a few hundred grams turns part-way up the stroke, where the flow is already
+// more than half open's, or at full flow; a half-open one never turns above half open's flow.
 #include <cstdint>
 
 #include "dynweigh/firmware/io.hpp"
