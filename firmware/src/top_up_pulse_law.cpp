@@ -17,6 +17,9 @@ constexpr float kLossMaxS = 0.2f;
 constexpr float kPulseNoiseG = 1.0f;
 constexpr float kShortestPulseS = 0.001f;
 constexpr float kAimSigmas = 2.0f;
+// The last pulse holds back half of what the law is unsure of (not the jitter: that every pulse has),
+// once pulses taught it: a law only the dose taught knows no pulse, and the fill would end short.
+constexpr float kLastAimSigmas = 0.5f;
 // A pulse's lesson weighs as much as the last ten's: the law follows the silo's level and the valve.
 constexpr float kForgetting = 0.9f;
 // No valve takes 10 s to travel: a stored law that says so is no law.
@@ -189,16 +192,25 @@ float TopUpPulseLaw::seconds_for(const Law& law, float mass_g) const {
   return seconds < kShortestPulseS ? kShortestPulseS : (seconds > max_pulse_s_ ? max_pulse_s_ : seconds);
 }
 
-// The law's standard deviation of a pulse's mass, and the valve's jitter at its flow.
-float TopUpPulseLaw::spread_g(const Law& law, float seconds) const {
+// The law's standard deviation of a pulse's mass: what it is still unsure of.
+float TopUpPulseLaw::unsure_g(const Law& law, float seconds) const {
   const TwoParameterRls::State& s = law.rls.state();
   const float x1 = open_seconds(law, seconds), x2 = loss_regressor(x1);
   const float variance = x1 * (s.p11 * x1 + s.p12 * x2) + x2 * (s.p12 * x1 + s.p22 * x2);
-  return (variance > 0.0f ? std::sqrt(variance) : 0.0f) + kJitterS * s.theta1;
+  return variance > 0.0f ? std::sqrt(variance) : 0.0f;
+}
+
+// ... and the valve's jitter at its flow.
+float TopUpPulseLaw::spread_g(const Law& law, float seconds) const {
+  return unsure_g(law, seconds) + kJitterS * law.rls.state().theta1;
 }
 
 float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, bool last) const {
-  if (last) return deficit_g;
+  if (last && law.pulses == 0) return deficit_g;
+  if (last) {
+    const float aim = deficit_g - kLastAimSigmas * unsure_g(law, seconds_for(law, deficit_g));
+    return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
+  }
   if (law.seen == 0) return kFirstAim * deficit_g;
   const float most = kLaterAim * deficit_g;
   const float sure = deficit_g - kAimSigmas * spread_g(law, seconds_for(law, most));
