@@ -39,9 +39,10 @@ class DosePlanner {
   static constexpr float kBlindShare = 0.2f;        // one sigma of a blind close on the prior, share of the fill
   // ... timed by an open-time law two fills taught: the law knows the mean fill, not this one's flow
   // (fluctuating 1-6 % rms, not averaged out over a short fill) nor its start-up's scatter. The
-  // closes it timed on the plant family scattered by more than 3 % of the fill; with the pulses
-  // sized well, aiming shorter by 4 % costs a pulse and saves an overdose.
-  static constexpr float kLearnedBlindShare = 0.04f;
+  // closes it timed on the plant family scattered by more than 3 % of the fill, and on valves whose
+  // jitter is a large part of a short open time by far more. The half-open pulses finish a fill to
+  // within a few grams, so aiming 8 % short costs a pulse and saves an overdose (docs/plant-family.md).
+  static constexpr float kLearnedBlindShare = 0.08f;
   static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
   // Until a measured close of the material has shown what the valve lets through after the close
   // command (learned_fill_law.hpp), a measured close takes it from the valve's timing in use and
