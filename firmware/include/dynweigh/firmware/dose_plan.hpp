@@ -41,8 +41,8 @@ class DosePlanner {
   // (fluctuating 1-6 % rms, not averaged out over a short fill) nor its start-up's scatter. The
   // closes it timed on the plant family scattered by more than 3 % of the fill, and on valves whose
   // jitter is a large part of a short open time by far more. The half-open pulses finish a fill to
-  // within a few grams, so aiming 8 % short costs a pulse and saves an overdose (docs/plant-family.md).
-  static constexpr float kLearnedBlindShare = 0.08f;
+  // within a few grams, so aiming 6 % short costs a pulse and saves an overdose (docs/plant-family.md).
+  static constexpr float kLearnedBlindShare = 0.06f;
   static constexpr float kEstimatorShare = 0.01f;   // the estimator's error, share of the in-flight
   // Until a measured close of the material has shown what the valve lets through after the close
   // command (learned_fill_law.hpp), a measured close takes it from the valve's timing in use and
