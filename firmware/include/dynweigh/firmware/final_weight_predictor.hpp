@@ -78,12 +78,13 @@ class BasicFinalWeightPredictor {
   }
 
  private:
+  // The share of its stroke the gate reaches for a close at `open_s`; 1 once it is full open.
+  Scalar stroke_reached(Scalar open_s) const;
+
   model::CutoffGeometry<Scalar> geometry_;  // as the valve stands: full open or half
   Scalar full_area_m2_ = Scalar(0);
   Scalar jiffy_s_ = Scalar(0.01);
   Scalar prior_rate_kg_s_ = Scalar(0);
-  // The share of its stroke the gate reaches for a close at `open_s`; 1 once it is full open.
-  Scalar stroke_reached(Scalar open_s) const;
   DoseValveTiming<Scalar> timing_{};
   Scalar closing_duration_s_ = Scalar(0);
 

@@ -23,11 +23,11 @@
 // the one the feedback timed).
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
-// pulse a dose may give aims at the whole deficit less half of what the law is still unsure of: short
-// by the jitter too, every such fill would end short by what the aim held back, a bias no later pulse
-// corrects. A law that pulses like this one have taught holds back little; one taught by a pulse or
-// two of another length (a new material's first dose) holds back more. A law only the dose taught
-// aims at the whole deficit.
+// pulse a dose may give aims at the whole deficit less half of what the law is still unsure of, but
+// not short by the jitter as the others are: every fill that needs it would end short by that, a bias
+// no later pulse corrects. A law that pulses like this one have taught holds back little; one taught
+// by a pulse or two of another length (a new material's first dose) holds back more. A law only the
+// dose taught aims at the whole deficit.
 // The pulses open the valve half, unless even the longest pulse allowed could not bring the deficit
 // at half open's flow. A pulse's mass is off by the valve's timing jitter times the flow where the
 // gate turns back (the jitter moves both the turn and the closing ramp that follows it). A
