@@ -181,6 +181,56 @@ TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetTh
   EXPECT_EQ(law.close_residual_s(0.075f), 0.0f);  // within 10 ms of the timing in use: it stands
 }
 
+// The plan's uncertainty for a measured close is a model; the closes of a material show how far
+// they really come out. Closes well within it narrow the next one's, wider ones widen it, each only
+// as far as the last eight closes outweigh the model's own four, and to one and a half times it at most.
+TEST(MeasuredCloseSpread, ClosesWithinTheirUncertaintyNarrowItAndWiderOnesWidenIt) {
+  using firmware::MeasuredCloseSpread;
+  MeasuredCloseSpread tight, wide, one;
+  EXPECT_FLOAT_EQ(tight.sigma_scale(), 1.0f);  // nothing shown: the model's uncertainty
+  for (int i = 0; i < 3; ++i) tight.add(i % 2 == 0 ? 0.3f : -0.3f);
+  EXPECT_NEAR(tight.sigma_scale(), std::sqrt((4.0f + 3.0f * 0.09f) / 7.0f), 1e-5f);  // 0.78
+  for (int i = 0; i < 20; ++i) tight.add(i % 2 == 0 ? 0.3f : -0.3f);
+  EXPECT_NEAR(tight.sigma_scale(), std::sqrt((4.0f + 8.0f * 0.09f) / 12.0f), 1e-5f);  // 0.63: eight closes at most
+  for (int i = 0; i < 20; ++i) wide.add(2.5f);
+  EXPECT_FLOAT_EQ(wide.sigma_scale(), MeasuredCloseSpread::kHighestScale);
+  one.add(40.0f);  // a wild close counts as three sigmas
+  EXPECT_FLOAT_EQ(one.mean_square(), MeasuredCloseSpread::kLargestSquare);
+  one.add(NAN);  // no close
+  EXPECT_EQ(one.closes(), 1u);
+  for (int i = 0; i < 30; ++i) tight.add(0.0f);
+  EXPECT_NEAR(tight.sigma_scale(), std::sqrt(4.0f / 12.0f), 0.01f);  // however close they came out
+  EXPECT_FALSE(one.restore(20.0f, 3));  // no close leaves more than 9
+  EXPECT_EQ(one.closes(), 0u);
+}
+
+// Only a measured close teaches the spread, and only against the uncertainty the plan gave it; it
+// comes back with the material.
+TEST(LearnedFillLaw, MeasuredClosesTeachTheSpreadAgainstTheirPlansUncertainty) {
+  firmware::LearnedFillLaw law;
+  law.configure(3000.0f, 0.05f);
+  firmware::CloseRecord measured;
+  measured.valid = true;
+  measured.measured = true;
+  measured.open_s = 3.0f;
+  measured.flow_g_s = 3000.0f;
+  measured.let_through_s = 0.04f;
+  measured.prediction_g = 9000.0f;
+  firmware::CloseRecord blind = measured;
+  blind.measured = false;
+  law.learn(blind, 9400.0f, 50.0f);     // blind: the open-time law's, not the plan's measured sigma
+  law.learn(measured, 9030.0f, 0.0f);   // no uncertainty given (the learn strategy plans nothing)
+  EXPECT_EQ(law.learned().measured_closes.closes(), 0u);
+  for (int i = 0; i < 8; ++i) law.learn(measured, 9000.0f + (i % 2 == 0 ? 10.0f : -10.0f), 50.0f);
+  EXPECT_EQ(law.learned().measured_closes.closes(), 8u);
+  EXPECT_NEAR(law.learned().measured_closes.mean_square(), 0.04f, 0.01f);  // 10 g of a 50 g sigma
+  EXPECT_LT(law.measured_sigma_scale(), 0.65f);
+  firmware::LearnedFillLaw restarted;
+  restarted.configure(3000.0f, 0.05f);
+  restarted.restore(law.learned());
+  EXPECT_FLOAT_EQ(restarted.measured_sigma_scale(), law.measured_sigma_scale());
+}
+
 TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   const sim::Scene scene = sim::default_scene();
   PersistentSettings settings = commissioned(scene);
@@ -213,6 +263,7 @@ firmware::MaterialLearning some_learning() {
   learned.doses.add(0.1318f, 158.0f);
   learned.doses.add(0.24f, 808.0f);
   learned.doses.add(0.1824f, 415.0f);
+  for (float error_sigmas : {0.5f, -0.4f, 0.6f}) learned.measured_closes.add(error_sigmas);
   return learned;
 }
 
@@ -237,6 +288,10 @@ TEST(MaterialLearningRecord, SurvivesAPowerCutPerMaterial) {
   EXPECT_EQ(kept.doses.entry(1).open_100us, 2400u);
   EXPECT_EQ(kept.doses.entry(1).final_g, 808u);
   EXPECT_EQ(kept.doses.next(), 3u);
+  // The measured closes' spread is kept to 1/64 of a sigma in its root.
+  EXPECT_EQ(kept.measured_closes.closes(), 3u);
+  const float root = std::sqrt(some_learning().measured_closes.mean_square());
+  EXPECT_NEAR(std::sqrt(kept.measured_closes.mean_square()), root, 0.5f / 64.0f);
   EXPECT_TRUE(restored.materials.at(0).learned.empty());
 }
 
@@ -252,6 +307,30 @@ TEST(MaterialLearningRecord, WhatNoFillCanTeachIsDropped) {
   EXPECT_EQ(kept.residual_fills, 0u);
   EXPECT_TRUE(kept.valve.empty());
   EXPECT_EQ(kept.doses.size(), 3u);  // sane, so kept: each lesson is judged on its own
+}
+
+// A spread no close can leave (its root above three sigmas: each close counts at most as three) is
+// dropped from a record; the rest of what was learned stays.
+TEST(MaterialLearningRecord, AMeasuredCloseSpreadNoCloseCanLeaveIsDropped) {
+  PersistentSettings settings;
+  settings.materials.keep_learned(some_learning());
+  std::vector<std::uint8_t> record(firmware::kSettingsRecordSize);
+  ASSERT_EQ(firmware::encode_settings(settings, record.data(), record.size()), record.size());
+  const std::size_t entry = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes + 4;
+  std::uint8_t* spread = record.data() + entry + firmware::kMaterialEntryBytesV6 + firmware::kRlsStateBytes + 6;
+  ASSERT_EQ(spread[1], 3u);  // the closes, where the layout says
+  spread[0] = 0xFF;          // a root of 4 sigmas
+  auto put = [](std::uint8_t* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
+  };
+  put(record.data() + 12, firmware::crc32(record.data() + 16, record.size() - 16) ^ firmware::crc32(record.data(), 12));
+  PersistentSettings loaded;
+  ASSERT_TRUE(firmware::decode_settings(record.data(), record.size(), loaded));
+  const firmware::MaterialLearning& kept = loaded.materials.at(0).learned;
+  EXPECT_EQ(kept.measured_closes.closes(), 0u);
+  EXPECT_FLOAT_EQ(kept.measured_closes.sigma_scale(), 1.0f);
+  EXPECT_EQ(kept.open_time_law.fills, 3u);
+  EXPECT_EQ(kept.residual_fills, 2u);
 }
 
 // The record of an older firmware: today's, with each material entry cut to what that version kept

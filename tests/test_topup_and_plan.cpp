@@ -634,5 +634,28 @@ TEST(DosePlan, AnUnconfirmedLetThroughWidensAMeasuredClosesUncertainty) {
                   planner.choose(10000.0f, 9000.0f, 1000.0f, false, true, 0.5f).sigma_g);
 }
 
+// What the material's measured closes showed of their uncertainty scales a measured close's sigma,
+// and so the plan: a close the model alone would aim short for a top-up is a full one where the
+// closes came out within 0.6 of it. A blind close's uncertainty is no measured one's.
+TEST(DosePlan, WhatTheMaterialsMeasuredClosesShowedScalesAMeasuredClosesUncertainty) {
+  firmware::DosePlanner planner;
+  planner.configure(1.0f, 0.5f, false, 0.01f);
+  planner.start();
+  for (int i = 0; i < 200; ++i) planner.observe_rate(20.0f + (i % 2 == 0 ? 1.0f : -1.0f));
+  const float limit_g = float(x1_limit_g(5000.0));  // 52.5 g
+  // In flight so that the model's two sigmas are 1.3 times the limit.
+  const firmware::PlanChoice unit = planner.choose(5000.0f, 4000.0f, 1000.0f, true, false, 0.5f);
+  const float in_flight_g = 1000.0f * 1.3f * limit_g / (2.0f * unit.sigma_g);
+  const firmware::PlanChoice model = planner.choose(5000.0f, 4000.0f, in_flight_g, true, false, 0.5f, 20.0f);
+  const firmware::PlanChoice shown = planner.choose(5000.0f, 4000.0f, in_flight_g, true, false, 0.5f, 20.0f, 0.6f);
+  EXPECT_NEAR(shown.sigma_g, 0.6f * model.sigma_g, 1e-3f);
+  EXPECT_EQ(model.plan, firmware::DosePlan::topup);
+  EXPECT_GT(model.margin_g, 0.0f);
+  EXPECT_EQ(shown.plan, firmware::DosePlan::full);
+  EXPECT_EQ(shown.margin_g, 0.0f);
+  EXPECT_FLOAT_EQ(planner.choose(5000.0f, 4000.0f, in_flight_g, false, true, 0.5f, 0.0f, 0.6f).sigma_g,
+                  planner.choose(5000.0f, 4000.0f, in_flight_g, false, true, 0.5f).sigma_g);
+}
+
 }  // namespace
 }  // namespace dynweigh::testing

@@ -63,7 +63,7 @@ float DosePlanner::growth() const {
 }
 
 PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught,
-                               float flight_s, float let_through_sigma_g) const {
+                               float flight_s, float let_through_sigma_g, float measured_sigma_scale) const {
   PlanChoice c;
   c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
@@ -73,7 +73,8 @@ PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_fligh
   const float blind_share = law_taught ? kLearnedBlindShare : kBlindShare;
   const float stream_g = measured_share * in_flight;
   const float let_through_g = let_through_sigma_g > 0.0f ? let_through_sigma_g : 0.0f;
-  c.sigma_g = measuring ? std::sqrt(stream_g * stream_g + let_through_g * let_through_g)
+  const float scale = measured_sigma_scale > 0.0f ? measured_sigma_scale : 1.0f;
+  c.sigma_g = measuring ? scale * std::sqrt(stream_g * stream_g + let_through_g * let_through_g)
                         : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;
   // Half open: less in flight by the flow's ratio, and the half-open stream measured again.

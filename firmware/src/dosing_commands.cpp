@@ -1,5 +1,7 @@
 // The dose on the console: `dose`, the manual `valve`, `abort`, and what the last model dose
 // measured (`estimates`). `accept` and `topup`, on a held result: fill_conclusion.cpp.
+#include <cmath>
+
 #include "console_commands.hpp"
 
 namespace dynweigh::firmware {
@@ -91,6 +93,10 @@ void write_learned(Console& console, std::size_t material, const MaterialLearnin
   console.write_int(learned.residual_fills);
   write_estimate(console, "law_longest_ms", law_known && learned.law_longest_open_s > 0.0f,
                  1000.0f * learned.law_longest_open_s, 0);
+  const MeasuredCloseSpread& spread = learned.measured_closes;
+  write_estimate(console, "close_spread", spread.closes() > 0, std::sqrt(spread.mean_square()), 2);
+  console.write(" measured_closes=");
+  console.write_int(spread.closes());
   console.put('\n');
 }
 

@@ -63,6 +63,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   topping_up_ = false;
   planner_.start();
   plan_ = PlanChoice{};
+  close_sigma_g_ = 0.0f;
   frozen_reading_ = false;
   still_samples_ = 0;
   phase_ = Phase::dosing;
@@ -144,8 +145,11 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
   const bool let_through_taught = model_.fill_law().learned().residual_fills > 0;
   const float let_through_sigma_g =
       let_through_taught ? 0.0f : DosePlanner::kUnlearnedLetThroughS * growth_g_per_jiffy / jiffy_s_;
+  const float scale = model_.fill_law().measured_sigma_scale();
   plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught,
-                          model_.settle_delay_s(), let_through_sigma_g);
+                          model_.settle_delay_s(), let_through_sigma_g, scale);
+  // What the close teaches of the scale is measured against the model's own uncertainty.
+  close_sigma_g_ = model_.measuring() ? plan_.sigma_g / scale : 0.0f;
   return plan_.margin_g;
 }
 
@@ -359,7 +363,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
     if (result_.strategy == DosingStrategy::flowpreact) flow_preact_.learn(float(result_.final_g));
     if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) {
-      model_.learn(float(result_.final_g));
+      model_.learn(float(result_.final_g), close_sigma_g_);
     }
     return Outcome::certified;
   }

@@ -50,6 +50,7 @@ void LearnedFillLaw::restore(const MaterialLearning& learned) {
     learned_.law_longest_open_s = learned.law_longest_open_s;
   }
   learned_.doses = learned.doses;
+  learned_.measured_closes = learned.measured_closes;
   if (learned.residual_fills > 0 && std::fabs(learned.close_let_through_s) <= kLetThroughLimitS) {
     learned_.close_let_through_s = learned.close_let_through_s;
     learned_.residual_fills = learned.residual_fills;
@@ -68,11 +69,12 @@ float LearnedFillLaw::close_residual_s(float let_through_in_use_s) const {
   return learned_.residual_fills > 0 && std::fabs(off_s) > kLetThroughDeadbandS ? off_s : 0.0f;
 }
 
-void LearnedFillLaw::learn(const CloseRecord& close, float final_g) {
+void LearnedFillLaw::learn(const CloseRecord& close, float final_g, float close_sigma_g) {
   if (!close.valid || !close.from_full_open || !(final_g > 0.0f) || !(close.open_s > 0.0f)) return;
   learn_open_time(close.open_s, final_g);
   learned_.doses.add(close.open_s, final_g);
   if (!close.measured || !(close.flow_g_s > 0.0f)) return;
+  if (close_sigma_g > 0.0f) learned_.measured_closes.add((final_g - close.prediction_g) / close_sigma_g);
   const float residual_s = (final_g - close.prediction_g) / close.flow_g_s;
   learn_let_through(close.let_through_s + std::fmax(-kResidualLimitS, std::fmin(kResidualLimitS, residual_s)));
 }

@@ -114,8 +114,8 @@ Scalar BasicModelCutoff<Scalar>::growth_per_jiffy_g() const {
 }
 
 template <typename Scalar>
-void BasicModelCutoff<Scalar>::learn(Scalar final_g) {
-  law_.learn(close_, float(final_g));
+void BasicModelCutoff<Scalar>::learn(Scalar final_g, float close_sigma_g) {
+  law_.learn(close_, float(final_g), close_sigma_g);
 }
 
 template <typename Scalar>

@@ -84,11 +84,29 @@ BaselineLearning get_baselines(const std::uint8_t* p) {
   return b;
 }
 
+// The measured closes' spread in the bytes after the let-through's fills (zero in a record written
+// before it was kept: nothing learned): the root of the mean square in 1/64 sigma, and the closes.
+constexpr float kSpreadUnits = 64.0f;
+
+void put_measured_close_spread(std::uint8_t* p, const MeasuredCloseSpread& spread) {
+  const long root = std::lround(std::sqrt(spread.mean_square()) * kSpreadUnits);
+  p[0] = std::uint8_t(root > 0xFF ? 0xFF : root);
+  p[1] = spread.closes();
+}
+
+MeasuredCloseSpread get_measured_close_spread(const std::uint8_t* p) {
+  const float root = float(p[0]) / kSpreadUnits;
+  MeasuredCloseSpread spread;
+  spread.restore(root * root, p[1]);
+  return spread;
+}
+
 void put_material_learning(std::uint8_t* p, const MaterialLearning& learned) {
   put_rls(p, learned.open_time_law);
   put_f32(p + kRlsStateBytes, learned.close_let_through_s);
   p[kRlsStateBytes + 4] = std::uint8_t(learned.residual_fills);
   p[kRlsStateBytes + 5] = std::uint8_t(learned.residual_fills >> 8);
+  put_measured_close_spread(p + kRlsStateBytes + 6, learned.measured_closes);
 }
 
 // A let-through no learning can produce (not finite, a second or more) is dropped, as a law that is not sane.
@@ -99,6 +117,7 @@ MaterialLearning get_material_learning(const std::uint8_t* p) {
   learned.open_time_law = get_rls(p);
   learned.close_let_through_s = get_f32(p + kRlsStateBytes);
   learned.residual_fills = std::uint16_t(p[kRlsStateBytes + 4] | (p[kRlsStateBytes + 5] << 8));
+  learned.measured_closes = get_measured_close_spread(p + kRlsStateBytes + 6);
   if (learned.residual_fills == 0 || !(std::fabs(learned.close_let_through_s) <= kLetThroughLimitS)) {
     learned.close_let_through_s = 0.0f;
     learned.residual_fills = 0;

@@ -73,8 +73,10 @@ class DosePlanner {
   // `flight_s`: the time the material in flight took to leave the orifice (0: a fluctuation it
   // does not average at all). `let_through_sigma_g`: what a measured close may be off by because
   // no measured close of this material has yet shown what the valve lets through.
+  // `measured_sigma_scale`: what this material's measured closes showed of that uncertainty
+  // (measured_close_spread.hpp); it scales a measured close's sigma.
   PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false,
-                    float flight_s = 0.0f, float let_through_sigma_g = 0.0f) const;
+                    float flight_s = 0.0f, float let_through_sigma_g = 0.0f, float measured_sigma_scale = 1.0f) const;
   float fluctuation() const;  // the landing rate's relative standard deviation in this dose
   // While the stream is young, how far its recent landing rate is above its mean, as a share of
   // the mean; 0 once it is not young, or not growing.

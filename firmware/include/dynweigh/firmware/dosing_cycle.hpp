@@ -164,6 +164,7 @@ class DosingCycle {
 
   DosePlanner planner_;
   PlanChoice plan_;
+  float close_sigma_g_ = 0.0f;  // the plan's uncertainty for a measured close now, before its scale
   TopUpPulseLaw top_up_law_;
   TopUpPulseLaw::Pulse pulse_;
   float top_up_flow_g_s_ = 0.0f;  // full open, as measured at the close (0: none measured)

@@ -39,8 +39,11 @@ class LearnedFillLaw {
   // let `let_through_in_use_s` through.
   float close_residual_s(float let_through_in_use_s) const;
 
-  // A certified fill of `final_g` that closed as `close` says.
-  void learn(const CloseRecord& close, float final_g);
+  // A certified fill of `final_g` that closed as `close` says; `close_sigma_g` the uncertainty the
+  // plan gave a measured close before its scale (0: none given).
+  void learn(const CloseRecord& close, float final_g, float close_sigma_g = 0.0f);
+  // What the plan multiplies a measured close's uncertainty by (measured_close_spread.hpp).
+  float measured_sigma_scale() const { return learned_.measured_closes.sigma_scale(); }
 
  private:
   void learn_open_time(float open_s, float final_g);

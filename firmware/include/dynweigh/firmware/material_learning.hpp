@@ -11,11 +11,13 @@
 //   let-through plus what the final came out above the model's prediction). It holds whatever
 //   the valve's timing in use is, datasheet or learned.
 // With them, the valve's timing as the doses of this material measured it (valve_timing_learning.hpp),
-// and the last few doses that ran full open, which tell how the fill grows with the open time where
-// the law's line does not (dose_history.hpp).
+// the last few doses that ran full open, which tell how the fill grows with the open time where
+// the law's line does not (dose_history.hpp), and how far its measured closes came out from their
+// predictions against the uncertainty the plan gave them (measured_close_spread.hpp).
 #include <cstdint>
 
 #include "dynweigh/firmware/dose_history.hpp"
+#include "dynweigh/firmware/measured_close_spread.hpp"
 #include "dynweigh/firmware/two_parameter_rls.hpp"
 #include "dynweigh/firmware/valve_timing_learning.hpp"
 
@@ -28,8 +30,10 @@ struct MaterialLearning {
   float law_longest_open_s = 0.0f;  // the longest open time the law was taught at (0: none known)
   ValveTimingLearning valve{};
   DoseHistory doses{};
+  MeasuredCloseSpread measured_closes{};
   bool empty() const {
-    return open_time_law.fills == 0 && residual_fills == 0 && valve.empty() && doses.size() == 0;
+    return open_time_law.fills == 0 && residual_fills == 0 && valve.empty() && doses.size() == 0 &&
+           measured_closes.closes() == 0;
   }
 };
 

@@ -50,7 +50,8 @@ class BasicModelCutoff {
   // The close was commanded `fraction` of a jiffy after the last observed sample.
   void closed(Scalar fraction);
   // The dose closed by closed() was certified at `final_g`: what it teaches this material.
-  void learn(Scalar final_g);
+  // `close_sigma_g`: the uncertainty the plan gave a measured close, before its scale (0: none).
+  void learn(Scalar final_g, float close_sigma_g = 0.0f);
   const LearnedFillLaw& fill_law() const { return law_; }
   // Seconds from the close command until the last grain has landed.
   Scalar settle_delay_s() const { return predictor_.settle_delay_s(); }

@@ -41,7 +41,10 @@ inline constexpr std::size_t kRlsStateBytes = 24;
 inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + kRlsStateBytes;
 // The material table: selected u8, 3 bytes pad, then each material: defined u8, 3 bytes pad, name
 // 16 bytes (NUL-padded), density f32, class f32; from version 7 on, what the model's fills of it
-// measured: the open-time law, the measured close's let-through f32, its fills u16, 2 bytes pad;
+// measured: the open-time law, the measured close's let-through f32, its fills u16, and how far the
+// measured closes came out from their predictions (measured_close_spread.hpp; a record before this
+// firmware has zeros there: nothing learned): the root of their mean square in 1/64 sigma u8, their
+// number u8;
 // from version 8 on, what its top-up pulses taught: for full open, then half open, the law (as the
 // open-time law), the prior flow and the travel (f32 each), the pulses u8, 3 bytes pad; from version
 // 9 on, the longest open time the open-time law was taught at f32, and the valve's timing its doses
