@@ -76,6 +76,8 @@ void DosingCycle::open_from_rest() {
   open_jiffy_ = jiffies_;
   start_weight_g_ = standstill_.mean();
   model_.start(start_weight_g_, float(result_.target_g));
+  // Once a dose: it does not change within one, and a root each jiffy costs the Cortex-M budget.
+  measured_sigma_scale_ = model_.fill_law().measured_sigma_scale();
   two_stage_.start(float(result_.target_g));
   pac_.start(float(result_.target_g));
   flow_preact_.start(float(result_.target_g));
@@ -145,11 +147,10 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
   const bool let_through_taught = model_.fill_law().learned().residual_fills > 0;
   const float let_through_sigma_g =
       let_through_taught ? 0.0f : DosePlanner::kUnlearnedLetThroughS * growth_g_per_jiffy / jiffy_s_;
-  const float scale = model_.fill_law().measured_sigma_scale();
   plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught,
-                          model_.settle_delay_s(), let_through_sigma_g, scale);
+                          model_.settle_delay_s(), let_through_sigma_g, measured_sigma_scale_);
   // What the close teaches of the scale is measured against the model's own uncertainty.
-  close_sigma_g_ = model_.measuring() ? plan_.sigma_g / scale : 0.0f;
+  close_sigma_g_ = model_.measuring() ? plan_.sigma_g / measured_sigma_scale_ : 0.0f;
   return plan_.margin_g;
 }
 

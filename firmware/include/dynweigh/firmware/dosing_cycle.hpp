@@ -165,6 +165,7 @@ class DosingCycle {
   DosePlanner planner_;
   PlanChoice plan_;
   float close_sigma_g_ = 0.0f;  // the plan's uncertainty for a measured close now, before its scale
+  float measured_sigma_scale_ = 1.0f;  // what the material's measured closes showed of it
   TopUpPulseLaw top_up_law_;
   TopUpPulseLaw::Pulse pulse_;
   float top_up_flow_g_s_ = 0.0f;  // full open, as measured at the close (0: none measured)
