@@ -231,6 +231,26 @@ TEST(LearnedFillLaw, MeasuredClosesTeachTheSpreadAgainstTheirPlansUncertainty) {
   EXPECT_FLOAT_EQ(restarted.measured_sigma_scale(), law.measured_sigma_scale());
 }
 
+// The dose's plan gives its measured close an uncertainty and the certified close is measured
+// against it: three 10 kg fills on the default scene, each closed on a measured stream, leave three
+// closes in the material's spread, and `estimates` tells it.
+TEST(MaterialLearning, EachMeasuredCloseTeachesTheSpreadAndEstimatesTellIt) {
+  const sim::Scene scene = sim::default_scene();
+  PersistentSettings settings = commissioned(scene);
+  fills(scene, settings, 10000, 3);
+  const firmware::MeasuredCloseSpread& spread = settings.materials.at(0).learned.measured_closes;
+  EXPECT_EQ(spread.closes(), 3u);
+  EXPECT_GT(spread.mean_square(), 0.0f);
+  EXPECT_LT(spread.mean_square(), firmware::MeasuredCloseSpread::kLargestSquare);
+  ConsoleSession c(scene, 1, settings);
+  const auto estimates = lines_of(c.run({"estimates"}));
+  ASSERT_FALSE(estimates.empty());
+  EXPECT_NE(estimates.front().find(" measured_closes=3"), std::string::npos) << estimates.front();
+  EXPECT_NE(estimates.front().find(" close_spread="), std::string::npos) << estimates.front();
+  EXPECT_EQ(estimates.front().find(" close_spread=none"), std::string::npos) << estimates.front();
+  std::printf("%s\n", estimates.front().c_str());
+}
+
 TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   const sim::Scene scene = sim::default_scene();
   PersistentSettings settings = commissioned(scene);
