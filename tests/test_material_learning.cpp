@@ -153,6 +153,19 @@ TEST(MaterialLearning, AFaultedCycleTeachesNothing) {
   EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
 }
 
+// A close decided on a measured 3 kg/s stream after 3 s, predicted at 9 kg, the valve taken to let
+// 40 ms through.
+firmware::CloseRecord measured_close() {
+  firmware::CloseRecord measured;
+  measured.valid = true;
+  measured.measured = true;
+  measured.open_s = 3.0f;
+  measured.flow_g_s = 3000.0f;
+  measured.let_through_s = 0.04f;
+  measured.prediction_g = 9000.0f;
+  return measured;
+}
+
 // The law's arithmetic alone, on fills of a known law: 3 kg/s, 150 g lost to the opening.
 TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetThroughABoundedStep) {
   firmware::LearnedFillLaw law;
@@ -166,13 +179,7 @@ TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetTh
   law.learn(blind, 3000.0f * 0.8f - 150.0f);
   EXPECT_NEAR(law.final_at_open_g(1.2f), 3450.0f, 20.0f);  // two open times: the slope too
 
-  firmware::CloseRecord measured;
-  measured.valid = true;
-  measured.measured = true;
-  measured.open_s = 3.0f;
-  measured.flow_g_s = 3000.0f;
-  measured.let_through_s = 0.04f;
-  measured.prediction_g = 9000.0f;
+  firmware::CloseRecord measured = measured_close();
   law.learn(measured, 9000.0f + 0.06f * 3000.0f);  // the valve lets 60 ms more through
   EXPECT_NEAR(law.close_residual_s(0.04f), 0.06f, 1e-4f);
   measured.let_through_s = 0.10f;  // the next close used it
@@ -209,13 +216,7 @@ TEST(MeasuredCloseSpread, ClosesWithinTheirUncertaintyNarrowItAndWiderOnesWidenI
 TEST(LearnedFillLaw, MeasuredClosesTeachTheSpreadAgainstTheirPlansUncertainty) {
   firmware::LearnedFillLaw law;
   law.configure(3000.0f, 0.05f);
-  firmware::CloseRecord measured;
-  measured.valid = true;
-  measured.measured = true;
-  measured.open_s = 3.0f;
-  measured.flow_g_s = 3000.0f;
-  measured.let_through_s = 0.04f;
-  measured.prediction_g = 9000.0f;
+  firmware::CloseRecord measured = measured_close();
   firmware::CloseRecord blind = measured;
   blind.measured = false;
   law.learn(blind, 9400.0f, 50.0f);     // blind: the open-time law's, not the plan's measured sigma
