@@ -17,6 +17,7 @@
 #include "dynweigh/firmware/settings_slots.hpp"
 #include "dynweigh/hal/host/file_settings_store.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
+#include "dynweigh/sim/plant_family.hpp"
 #include "support/console_session.hpp"
 #include "support/temp_file.hpp"
 
@@ -186,6 +187,33 @@ TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetTh
   law.learn(measured, 9000.0f - 3000.0f);  // a wild fill a second short
   EXPECT_NEAR(law.learned().close_let_through_s, 0.08f, 1e-4f);  // moved by the 20 ms bound only
   EXPECT_EQ(law.close_residual_s(0.075f), 0.0f);  // within 10 ms of the timing in use: it stands
+}
+
+// A fill whose line the law does not take (a flow outside a quarter to four times the prior's) leaves
+// the law as it was; its open time still becomes the law's reach if the fill ended no higher than the
+// law said there (a close timed that far ends short), never if it ended higher.
+TEST(LearnedFillLaw, AFillTheLawDoesNotTakeExtendsItsReachOnlyIfItEndedShort) {
+  firmware::LearnedFillLaw law;
+  law.configure(6800.0f, 0.05f);  // the prior: 6.8 kg/s, 50 ms
+  firmware::CloseRecord blind;
+  blind.valid = true;
+  blind.open_s = 0.07f;
+  law.learn(blind, 12.0f);  // a gate barely open
+  ASSERT_TRUE(law.knows_open_time_law());
+  EXPECT_FLOAT_EQ(law.longest_open_s(), 0.07f);
+  const float at_150_ms = law.final_at_open_g(0.15f);
+  const std::uint16_t fills = law.learned().open_time_law.fills;
+
+  blind.open_s = 0.15f;
+  law.learn(blind, 20.0f);  // the line through both: a fiftieth of the prior's flow
+  EXPECT_EQ(law.learned().open_time_law.fills, fills) << "the law does not take it";
+  EXPECT_FLOAT_EQ(law.final_at_open_g(0.15f), at_150_ms);
+  EXPECT_FLOAT_EQ(law.longest_open_s(), 0.15f);
+
+  blind.open_s = 0.3f;
+  law.learn(blind, 50000.0f);  // far above the law: a flow no bore gives
+  EXPECT_EQ(law.learned().open_time_law.fills, fills);
+  EXPECT_FLOAT_EQ(law.longest_open_s(), 0.15f);
 }
 
 // The plan's uncertainty for a measured close is a model; the closes of a material show how far
@@ -584,6 +612,57 @@ TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
   const std::vector<double> errors = fills(scene, settings, 2000, 1);
   std::printf("law taught to %.0f ms on 500 g, first 2 kg fill %+.1f g\n", 1000.0 * longest_s, errors[0]);
   EXPECT_LE(std::abs(errors[0]), x1_limit_g(2000.0));
+}
+
+// A family plant as the bench installs it (sim/plant_family.hpp): the geometry true, the density a
+// guess, the platform and the valve at their defaults.
+PersistentSettings family_commissioned(const sim::FamilyPlant& plant) {
+  PersistentSettings settings = commissioned(plant.scene);
+  settings.parameters.set(ParameterId::container_mm, float(plant.scene.column.container_diameter_m * 1000.0));
+  settings.parameters.set(ParameterId::density, float(plant.density_guess));
+  settings.parameters.set(ParameterId::platform_hz, firmware::Parameters{}.get(ParameterId::platform_hz));
+  settings.parameters.set(ParameterId::platform_kg, firmware::Parameters{}.get(ParameterId::platform_kg));
+  return settings;
+}
+
+// Plant 88 of the family of seed 202 (sim/plant_family.hpp), never tuned on: a 100 mm bore (4.4
+// kg/s) behind a gate that takes 300 ms to open, a flow that starts at a third of itself, and a
+// density guessed 37 % high. Its 500 g fills close blind after 70 to 150 ms, where the fill grows far
+// faster than in proportion: the law's line through the second fill has a fifth of the prior's flow,
+// which the law does not take. The reach must grow all the same: it stayed at 157 ms, every later
+// dose closed there with about 105 g, and each 5 kg dose ended in a no_flow fault. Each 2 kg fill now
+// carries it further, and the 5 kg fills are measured closes.
+TEST(MaterialLearning, ShortClosesTheLawDoesNotTakeStillLetItReachFurther) {
+  const sim::FamilyPlant plant = sim::draw_family_plant(202, 87);
+  PersistentSettings settings = family_commissioned(plant);
+  const auto reach_s = [&settings] { return settings.materials.at(0).learned.law_longest_open_s; };
+  fills(plant.scene, settings, 500, 3);
+  for (int k = 0; k < 2; ++k) {
+    const float before_s = reach_s();
+    fills(plant.scene, settings, 2000, 1);
+    EXPECT_GT(reach_s(), 1.2f * before_s) << "2 kg fill " << k;
+  }
+  const std::vector<double> errors = fills(plant.scene, settings, 5000, 2);
+  std::printf("law reaches %.0f ms; 5 kg fills %+.1f %+.1f g\n", 1000.0 * reach_s(), errors[0], errors[1]);
+  for (double e : errors) EXPECT_LE(std::abs(e), x1_limit_g(5000.0));
+}
+
+// The same plant after a single 500 g fill: a 5 kg dose closes blind where the law's reach ends,
+// 157 ms after the open, and brings about 100 g, under the 262 g of 5 kg's X(5) limit, where the
+// law predicted some 330 g. That is the close doing what it meant (ending short for a top-up to
+// finish), not a plant that delivers nothing: a result, never a no_flow fault.
+TEST(MaterialLearning, ACloseAtTheLawsReachThatBringsItsShareIsNoNoFlow) {
+  const sim::FamilyPlant plant = sim::draw_family_plant(202, 87);
+  PersistentSettings settings = family_commissioned(plant);
+  fills(plant.scene, settings, 500, 1);
+  ASSERT_LT(settings.materials.at(0).learned.law_longest_open_s, 0.1f);
+  ConsoleSession c(plant.scene, 7, settings);
+  c.idle(100);
+  const auto lines = lines_of(c.run({"dose 5000"}));
+  ASSERT_EQ(lines.size(), 2u) << lines.front();
+  EXPECT_EQ(lines.front().rfind("RESULT ", 0), 0u) << lines.front();
+  EXPECT_EQ(lines.back(), "OK");
+  std::printf("%s\n", lines.front().c_str());
 }
 
 // A 100 mm bore (8.7 kg/s by Beverloo) behind a gate that takes 300 ms to open: every 500 g and 1 kg fill

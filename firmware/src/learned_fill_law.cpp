@@ -85,9 +85,20 @@ void LearnedFillLaw::learn_open_time(float open_s, float final_g) {
   const float share = law_.state().theta1 / prior_flow_g_s_;
   if (!(share >= kLowestFlowShare && share <= kHighestFlowShare)) {
     law_.restore(before);
+    extend_reach_if_short(open_s, final_g);
     return;
   }
   learned_.open_time_law = law_.state();
+  learned_.law_longest_open_s = std::fmax(learned_.law_longest_open_s, open_s);
+}
+
+// A fill the law does not take (its line would have a flow no bore gives: on a slow valve and a
+// slow start-up the first few tenths of a second deliver far less than in proportion) still shows
+// how far the law may reach, if it delivered no more than the law said: a close the law times up to
+// there ends short, and a top-up finishes it. Without this the reach stays where the last lesson
+// left it, every dose closes there, and one that must close far later never gets the chance.
+void LearnedFillLaw::extend_reach_if_short(float open_s, float final_g) {
+  if (learned_.open_time_law.fills == 0 || final_g > law_.predict(open_s, 1.0f)) return;
   learned_.law_longest_open_s = std::fmax(learned_.law_longest_open_s, open_s);
 }
 

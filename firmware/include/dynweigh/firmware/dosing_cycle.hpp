@@ -35,12 +35,17 @@ class DosingCycle {
  public:
   enum class Phase : std::uint8_t { idle, dosing, settling, pulsing };
   // `nothing_delivered`: whatever the strategy, a dose whose certified fill is no more than its own
-  // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) delivered
-  // nothing a filling line can use: a silo run empty, a valve that let nothing through, while a
-  // strategy closed on its prior. It ends in a fault, never in a result; unless the valve never had
-  // the time to open (valve_could_deliver): then the strategy closed too soon and the plant is sound.
+  // OIML R61 X(5) limit (5 x the X(1) initial-verification deviation for its target) and no more
+  // than a fifth of what the strategy predicted at its close delivered nothing a filling line can
+  // use: a silo run empty, a valve that let nothing through, while a strategy closed on its prior.
+  // It ends in a fault, never in a result; unless the valve never had the time to open
+  // (valve_could_deliver): then the strategy closed too soon and the plant is sound. A close meant to
+  // end far short (the model's, at the reach of what earlier fills taught it, on a slow valve whose
+  // first tenths of a second let little through) delivers a good share of what it predicted: a
+  // top-up finishes it.
   enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
   static constexpr float kNothingDeliveredClass = 5.0f;
+  static constexpr float kNothingDeliveredShare = 0.2f;
 
   void configure(const Parameters& parameters);
   // Every jiffy, dosing or not: whether the scale is at rest, and at what weight.

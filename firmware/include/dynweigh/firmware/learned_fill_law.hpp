@@ -47,6 +47,7 @@ class LearnedFillLaw {
 
  private:
   void learn_open_time(float open_s, float final_g);
+  void extend_reach_if_short(float open_s, float final_g);
   void learn_let_through(float shown_s);
   TwoParameterRls law_;
   float prior_flow_g_s_ = 0.0f;
