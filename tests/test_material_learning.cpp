@@ -618,7 +618,8 @@ TEST(MaterialLearning, ALawTaughtOnShortClosesIsNotCarriedIntoAnOverdose) {
 // guess, the platform and the valve at their defaults.
 PersistentSettings family_commissioned(const sim::FamilyPlant& plant) {
   PersistentSettings settings = commissioned(plant.scene);
-  settings.parameters.set(ParameterId::container_mm, float(plant.scene.column.container_diameter_m * 1000.0));
+  const double container_mm = plant.scene.column.container_diameter_m * 1000.0;
+  settings.parameters.set(ParameterId::container_mm, float(container_mm));
   settings.parameters.set(ParameterId::density, float(plant.density_guess));
   settings.parameters.set(ParameterId::platform_hz, firmware::Parameters{}.get(ParameterId::platform_hz));
   settings.parameters.set(ParameterId::platform_kg, firmware::Parameters{}.get(ParameterId::platform_kg));

@@ -379,7 +379,8 @@ bool DosingCycle::delivered_nothing() const {
   const float target = float(result_.target_g);
   const float limit = kNothingDeliveredClass * model::oiml_r61_x1_limits(target).initial_verification_g;
   const float final_g = float(result_.final_g);
-  const bool share_of_its_prediction = last_prediction_g_ > limit && final_g > kNothingDeliveredShare * last_prediction_g_;
+  const bool share_of_its_prediction =
+      last_prediction_g_ > limit && final_g > kNothingDeliveredShare * last_prediction_g_;
   return valve_could_deliver_ && final_g <= limit && !share_of_its_prediction;
 }
 
