@@ -326,11 +326,19 @@ Fault FaultSupervisor::watch_after_close(const Observation& o) {
   const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
                                  kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
   if (watch_early_leak(weight_g, rise_g)) return Fault::flow_after_close;
-  if (command_age_ == rest_jiffies_) after_close_reference_g_ = weight_g;
-  if (command_age_ <= rest_jiffies_ || command_age_ > rest_jiffies_ + after_close_window_jiffies_) {
+  if (command_age_ == rest_jiffies_) {
+    const std::uint32_t period = ring_period_jiffies(o.filtered_g);
+    const std::uint32_t whole = period > 0 ? PeriodMean::kCapacity / period : 0;
+    late_window_jiffies_ = whole > 0 ? whole * period : PeriodMean::kCapacity;
+    settled_weight_.reset(late_window_jiffies_);
+    settled_weight_.push(o.filtered_g);
+  }
+  const std::uint32_t reference_age = rest_jiffies_ + late_window_jiffies_;
+  if (command_age_ == reference_age) after_close_reference_g_ = settled_weight_.mean();
+  if (command_age_ <= reference_age || command_age_ > reference_age + after_close_window_jiffies_) {
     return Fault::none;
   }
-  return weight_g > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
+  return settled_weight_.mean() > after_close_reference_g_ + rise_g ? Fault::flow_after_close : Fault::none;
 }
 
 // One period of the platform's ringing under the load on it, in jiffies (1 for a rigid scale).

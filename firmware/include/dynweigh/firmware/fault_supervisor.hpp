@@ -45,8 +45,12 @@
 //   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s;
 //   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
 //   before by kFlowAfterCloseRise, before a stuck valve can run the silo empty while the long margin
-//   passes. Both watch the filtered weight averaged over one period of the platform: a loaded
-//   platform rings slowly and long, and through the filter alone its swing can exceed the rise.
+//   passes. Both watch the filtered weight averaged over the platform's ringing: a loaded platform
+//   rings slowly and long, and through the filter alone its swing can exceed the rise. The early one
+//   over one period (0.5 s at least: its mean must not still hold the landing); the later one, from
+//   the margin on, over as many periods as fill the mean's buffer, compared from when that is full:
+//   a platform left at the default `platform_hz` may ring at 2 to 3 Hz, and one period's mean of the
+//   wrong length keeps a fifth of the swing.
 #include <cstdint>
 
 #include "dynweigh/firmware/fault.hpp"
@@ -208,6 +212,7 @@ class FaultSupervisor {
   std::uint32_t ring_period_jiffies(float net_g) const;
   PeriodMean settled_weight_;
   float after_close_reference_g_ = 0.0f;
+  std::uint32_t late_window_jiffies_ = 1;  // the later check's mean, whole predicted periods
   float early_leak_sums_g_[2] = {};  // the filtered weight summed over the two windows
 };
 
