@@ -167,13 +167,19 @@ firmware::CloseRecord measured_close() {
   return measured;
 }
 
+// A close timed before the stream was measured, `open_s` after the open.
+firmware::CloseRecord blind_close(float open_s) {
+  firmware::CloseRecord blind;
+  blind.valid = true;
+  blind.open_s = open_s;
+  return blind;
+}
+
 // The law's arithmetic alone, on fills of a known law: 3 kg/s, 150 g lost to the opening.
 TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetThroughABoundedStep) {
   firmware::LearnedFillLaw law;
   law.configure(2000.0f, 0.05f);  // the prior: 2 kg/s, 50 ms
-  firmware::CloseRecord blind;
-  blind.valid = true;
-  blind.open_s = 0.5f;
+  firmware::CloseRecord blind = blind_close(0.5f);
   law.learn(blind, 3000.0f * 0.5f - 150.0f);
   EXPECT_NEAR(law.final_at_open_g(0.5f), 1350.0f, 5.0f);
   blind.open_s = 0.8f;
@@ -195,9 +201,7 @@ TEST(LearnedFillLaw, OneFillTeachesTheLawWhereItWasMadeAndAWildFillMovesTheLetTh
 TEST(LearnedFillLaw, AFillTheLawDoesNotTakeExtendsItsReachOnlyIfItEndedShort) {
   firmware::LearnedFillLaw law;
   law.configure(6800.0f, 0.05f);  // the prior: 6.8 kg/s, 50 ms
-  firmware::CloseRecord blind;
-  blind.valid = true;
-  blind.open_s = 0.07f;
+  firmware::CloseRecord blind = blind_close(0.07f);
   law.learn(blind, 12.0f);  // a gate barely open
   ASSERT_TRUE(law.knows_open_time_law());
   EXPECT_FLOAT_EQ(law.longest_open_s(), 0.07f);
