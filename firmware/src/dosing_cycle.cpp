@@ -268,6 +268,12 @@ bool DosingCycle::learn_top_up(float delivered_g) {
   return true;
 }
 
+bool DosingCycle::dose_delivered_nothing() const {
+  const float limit =
+      kNothingDeliveredClass * model::oiml_r61_x1_limits(float(result_.target_g)).initial_verification_g;
+  return float(result_.final_g) <= limit;
+}
+
 DosingCycle::Outcome DosingCycle::step_pulse() {
   if (jiffies_ >= pulse_end_jiffy_) close_valve(model_.settle_delay_s());
   return Outcome::running;

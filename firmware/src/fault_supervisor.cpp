@@ -185,20 +185,32 @@ void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
 
 // A dose's valve had a chance to deliver once its feedback reported it open (or at the half the
 // fine feed asks for), or, where the feedback shows nothing, once it was commanded open for the
-// slower of the datasheet's and the measured time to open.
+// slower of the datasheet's and the measured time to open. Feedback that showed it moving and
+// never there is a valve still opening when the close came, however long the datasheet's time:
+// a slow valve's first tenths of a second, before coarse grains pass the gate, let next to nothing
+// through.
 void FaultSupervisor::follow_dose_opening(const Observation& o) {
   if (!o.dose_running) {
     dose_open_jiffies_ = 0;
     dose_valve_opened_ = false;
+    dose_valve_moving_seen_ = false;
+    last_opening_reached_open_ = false;
     return;
   }
   if (o.command_in_force == ValveCommand::closed) return;
+  if (last_command_ == ValveCommand::closed) last_opening_reached_open_ = false;  // a new opening
   if (dose_open_jiffies_ < 0xFFFFFFFFu) ++dose_open_jiffies_;
-  if (o.position == ValvePosition::open || o.position == ValvePosition::half) dose_valve_opened_ = true;
+  if (o.position == ValvePosition::open || o.position == ValvePosition::half) {
+    dose_valve_opened_ = true;
+    last_opening_reached_open_ = true;
+  }
+  if (o.position == ValvePosition::moving) dose_valve_moving_seen_ = true;
 }
 
 bool FaultSupervisor::dose_valve_could_deliver() const {
-  return dose_valve_opened_ || float(dose_open_jiffies_) * jiffy_ms_ >= valve_shut_ms();
+  if (dose_valve_opened_) return true;
+  if (dose_valve_moving_seen_) return false;
+  return float(dose_open_jiffies_) * jiffy_ms_ >= valve_shut_ms();
 }
 
 Fault FaultSupervisor::watch_valve(const Observation& o) {

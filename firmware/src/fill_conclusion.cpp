@@ -13,10 +13,13 @@ void Indicator::conclude_dose() {
 }
 
 // A top-up pulse certified: what it delivered sizes the next one; a pulse the scale saw nothing of
-// ends the top-up with the result as it is.
+// ends the top-up with the result as it is, or in `no_flow` where the whole dose brought nothing.
 void Indicator::conclude_top_up() {
   const float delivered_g = float(dosing_.result().final_g - concluding_.final_g);
-  if (!dosing_.learn_top_up(delivered_g)) follow_up_.stop_topping_up();
+  if (!dosing_.learn_top_up(delivered_g)) {
+    if (supervisor_.last_opening_reached_open() && dosing_.dose_delivered_nothing()) return raise(Fault::no_flow);
+    follow_up_.stop_topping_up();
+  }
   keep_top_up_learning();
   concluding_ = dosing_.result();
   follow_up_.finish();

@@ -39,7 +39,8 @@ class DosingCycle {
   // than a fifth of what the strategy predicted at its close delivered nothing a filling line can
   // use: a silo run empty, a valve that let nothing through, while a strategy closed on its prior.
   // It ends in a fault, never in a result; unless the valve never had the time to open
-  // (valve_could_deliver): then the strategy closed too soon and the plant is sound. A close meant to
+  // (valve_could_deliver; its feedback still reading `moving` at the close): then the strategy
+  // closed too soon and the plant is sound, and its top-up finds out (dose_delivered_nothing). A close meant to
   // end far short (the model's, at the reach of what earlier fills taught it, on a slow valve whose
   // first tenths of a second let little through) delivers a good share of what it predicted: a
   // top-up finishes it.
@@ -67,6 +68,10 @@ class DosingCycle {
   // After the top-up's certified result: what the pulse delivered; false if the scale saw (about)
   // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
   bool learn_top_up(float delivered_g);
+  // The whole dose, its close and its pulses, brought no more than its X(5) limit: after a pulse
+  // whose feedback showed the valve open or at half and that the scale saw nothing of, a silo that
+  // delivers nothing, found after a close the valve was too slow for.
+  bool dose_delivered_nothing() const;
   bool sizes_top_ups() const { return top_up_flow_g_s_ > 0.0f; }
   // The unfiltered reading did not move once while the grains in flight at the close (or at a
   // pulse's end) landed, or stood still for kFrozenSamples samples while the fill settled: no pulse

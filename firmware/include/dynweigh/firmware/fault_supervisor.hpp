@@ -37,7 +37,8 @@
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
 //   (at the start or later: a silo run empty). dose_valve_could_deliver() tells the dosing cycle
 //   whether a dose that certified next to nothing had its valve open at all (feedback at open or
-//   half, or commanded open for the slower valve time): only then is it `no_flow`.
+//   half, or, where the feedback never showed it moving, commanded open for the slower valve
+//   time): only then is it `no_flow`.
 // - `sensor_frozen`: the raw counts identical for several samples while a dose's flow runs at a
 //   rate that moves them by many counts in that time, and for longer than half a period of the
 //   platform (`platform_hz`): at a crest of its ringing a live reading can stand still that long.
@@ -126,6 +127,9 @@ class FaultSupervisor {
   // Whether the running dose's valve was open long enough to deliver: if not, a dose that closed
   // before its valve opened delivered nothing through no fault of the plant (no `no_flow`).
   bool dose_valve_could_deliver() const;
+  // Whether the feedback showed the valve open (or at half) since the running dose's last opening
+  // command: a top-up pulse that did see it there and moved the scale by nothing met an empty silo.
+  bool last_opening_reached_open() const { return last_opening_reached_open_; }
 
   // What the supervisor needs to know about one jiffy, after the sample was processed.
   struct Observation {
@@ -193,6 +197,8 @@ class FaultSupervisor {
   std::uint32_t uncommanded_jiffies_ = 0;  // reported moving since, with no new command
   std::uint32_t dose_open_jiffies_ = 0;    // the running dose's valve commanded open (or half)
   bool dose_valve_opened_ = false;         // ... and its feedback reported it there
+  bool dose_valve_moving_seen_ = false;    // ... or reported it on its way there
+  bool last_opening_reached_open_ = false; // the latest opening command's feedback at open or half
 
   // Flow.
   bool flow_armed_ = false;
