@@ -452,6 +452,34 @@ TEST(FaultSupervisor, BusOffAndTheLoadCellsStatusBitsAreFaultsAtOnce) {
   }
 }
 
+// A slug landing on a stiff, lightly damped platform swings it above its empty weight for part of
+// each period of its ringing (plant 42 of `random:200@505`: 500 g from 2.2 m at 12 kg/s on a 14 Hz
+// platform). While a dose runs, the underload bit is a fault once it outlasts half a period of the
+// ring `platform_hz` predicts (12 Hz by default: 5 samples) + 2 samples; outside a dose at once.
+TEST(FaultSupervisor, UnderloadDuringADoseMustOutlastHalfAPeriodOfTheRinging) {
+  FaultSupervisor s = configured();
+  LoadCellInput under;
+  under.status = kLoadCellUnderload;
+  const LoadCellInput inside;
+  for (int period = 0; period < 12; ++period) {
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(s.watch_sample(under, true, 500.0f, true), Fault::none);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(s.watch_sample(inside, true, 500.0f, true), Fault::none);
+  }
+  int samples = 0;
+  Fault found = Fault::none;
+  while (found == Fault::none && samples < 100) {
+    found = s.watch_sample(under, true, 500.0f, true);
+    ++samples;
+  }
+  EXPECT_EQ(found, Fault::underload) << "a platform lifted stays there";
+  EXPECT_EQ(samples, 8);
+  FaultSupervisor idle = configured();
+  EXPECT_EQ(idle.watch_sample(under, true, 0.0f, false), Fault::underload);
+  LoadCellInput broken = under;
+  broken.status |= kLoadCellAdcError;
+  EXPECT_EQ(s.watch_sample(broken, true, 500.0f, true), Fault::adc_error) << "its other bits still count at once";
+}
+
 TEST(FaultSupervisor, AGrossWeightAboveMaxByTheMarginIsOverload) {
   FaultSupervisor s = configured();
   const float max_g = Parameters{}.get(ParameterId::capacity_g);

@@ -59,6 +59,7 @@ void FaultSupervisor::reset() {
   has_good_ = false;
   timing_.abandon_stroke();
   consecutive_rejected_ = 0;
+  underload_samples_ = 0;
   last_command_ = ValveCommand::closed;
   command_age_ = 0;
   closed_by_dose_ = false;
@@ -91,11 +92,29 @@ Fault FaultSupervisor::watch_link(const LoadCellInput& sample) {
   return silent_jiffies_ >= stale_limit_jiffies_ ? Fault::can_silence : Fault::stale_sample;
 }
 
-Fault FaultSupervisor::watch_sample(const LoadCellInput& sample, bool weighed, float gross_g) {
+// A stream that lands as one slug on a stiff, lightly damped platform swings it above its empty
+// weight, for part of each period of its ringing, by more than the cell's range below zero: the
+// installation's own landing, while a dose runs. A lifted platform or a cut wire stays there.
+Fault FaultSupervisor::watch_underload(const LoadCellInput& sample, float gross_g, bool dose_running) {
+  if (!(sample.status & kLoadCellUnderload)) {
+    underload_samples_ = 0;
+    return Fault::none;
+  }
+  ++underload_samples_;
+  if (!dose_running || !(platform_hz_ > 0.0f)) return Fault::underload;
+  const float load_kg = gross_g > 0.0f ? gross_g / 1000.0f : 0.0f;
+  const auto ringing = model::platform_ringing(platform_hz_, 0.0f, platform_kg_, load_kg);
+  const float half_period_jiffies = float(M_PI) / (ringing.omega_rad_s * jiffy_s_);
+  return float(underload_samples_) > std::ceil(half_period_jiffies) + 2.0f ? Fault::underload : Fault::none;
+}
+
+Fault FaultSupervisor::watch_sample(const LoadCellInput& sample, bool weighed, float gross_g, bool dose_running) {
   const Fault link = watch_link(sample);
   if (link != Fault::none || !sample.fresh) return link;
+  const Fault underload = watch_underload(sample, weighed ? gross_g : 0.0f, dose_running);
   const Fault own = sample_fault(sample);
-  if (own != Fault::none) return own;
+  if (own != Fault::none && own != Fault::underload) return own;
+  if (underload != Fault::none) return underload;
   if (screen_fault_ != Fault::none) return screen_fault_;
   if (weighed && gross_g > capacity_g_ + kOverloadMarginG) return Fault::overload;
   return Fault::none;

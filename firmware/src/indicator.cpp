@@ -54,7 +54,7 @@ void Indicator::sense(const Inputs& inputs) {
 // Every fault, before any command of this jiffy: one found closes the valve in this jiffy's outputs.
 void Indicator::supervise(const Inputs& inputs) {
   const Calibration& cal = settings_.calibration;
-  raise(supervisor_.watch_sample(inputs.load_cell, cal.valid(), scale_.filtered_gross_g(cal)));
+  raise(supervisor_.watch_sample(inputs.load_cell, cal.valid(), scale_.filtered_gross_g(cal), dose_running()));
   if (inputs.gate_faults != 0) raise(Fault::gate_fault);  // the module knows its gate best
   // A link that carries nothing brings no news of the valve either: its last feedback would read as
   // a valve that never moved. The link's own fault speaks for this jiffy.

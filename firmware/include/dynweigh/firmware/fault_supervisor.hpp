@@ -4,7 +4,9 @@
 //
 // - The link and the load cell's own word: `bus_off` as the board reports it; no sample for
 //   kStaleSampleLimitMs (fault.hpp) is `stale_sample`, or `can_silence` when the board heard nothing
-//   at all on the bus for as long; a sample's status bits are `adc_error`, `overload`, `underload`;
+//   at all on the bus for as long; a sample's status bits are `adc_error`, `overload`, `underload`
+//   (during a dose, once it outlasts half a period of the platform's ringing + 2 samples: a hard
+//   landing swings a stiff platform above its empty weight for part of each period);
 //   a calibrated gross weight more than kOverloadMarginG above Max is `overload` too.
 // - Outliers: a sample further than kOutlierFractionOfCapacity x Max from the last good one moved
 //   faster than anything on the scale can: the largest physical step is the stream's impact
@@ -103,7 +105,8 @@ class FaultSupervisor {
   // The jiffy's sample, after the scale took it (screen_sample, the filter): its link, its status
   // bits, its screen and, where the scale is calibrated (`weighed`), the gross weight it shows.
   // Fault::none, or the first thing found wrong.
-  Fault watch_sample(const LoadCellInput& sample, bool weighed, float gross_g);
+  // `dose_running`: a dose's stream may be landing, and its impact ringing the platform.
+  Fault watch_sample(const LoadCellInput& sample, bool weighed, float gross_g, bool dose_running = false);
   // What a fresh sample says of itself (bus-off, its status bits), counting nothing.
   static Fault sample_fault(const LoadCellInput& sample);
   // Every jiffy since the last fresh sample brought one (or `clearfault` was given since).
@@ -149,6 +152,7 @@ class FaultSupervisor {
  private:
   static float landing_step_g(const Parameters& p);
   Fault watch_link(const LoadCellInput& sample);
+  Fault watch_underload(const LoadCellInput& sample, float gross_g, bool dose_running);
   Fault watch_valve(const Observation& o);
   void follow_dose_opening(const Observation& o);
   void set_valve_limits(ValveCommand command, float delay_ms);
@@ -185,6 +189,7 @@ class FaultSupervisor {
   float good_counts_ = 0.0f;
   float last_rejected_counts_ = 0.0f;
   std::uint32_t consecutive_rejected_ = 0;
+  std::uint32_t underload_samples_ = 0;  // fresh samples in a row with the underload bit
   std::uint32_t rejected_total_ = 0;
 
   // Valve.
