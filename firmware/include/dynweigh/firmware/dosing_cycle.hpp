@@ -40,10 +40,10 @@ class DosingCycle {
   // use: a silo run empty, a valve that let nothing through, while a strategy closed on its prior.
   // It ends in a fault, never in a result; unless the valve never had the time to open
   // (valve_could_deliver; its feedback still reading `moving` at the close): then the strategy
-  // closed too soon and the plant is sound, and its top-up finds out (dose_delivered_nothing). A close meant to
-  // end far short (the model's, at the reach of what earlier fills taught it, on a slow valve whose
-  // first tenths of a second let little through) delivers a good share of what it predicted: a
-  // top-up finishes it.
+  // closed too soon and the plant is sound, and its top-up finds out (dose_delivered_nothing). A
+  // close meant to end far short (the model's, at the reach of what earlier fills taught it, on a
+  // slow valve whose first tenths of a second let little through) delivers a good share of what it
+  // predicted: a top-up finishes it.
   enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
   static constexpr float kNothingDeliveredClass = 5.0f;
   static constexpr float kNothingDeliveredShare = 0.2f;
