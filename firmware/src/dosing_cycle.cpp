@@ -268,10 +268,10 @@ bool DosingCycle::learn_top_up(float delivered_g) {
   return true;
 }
 
-bool DosingCycle::dose_delivered_nothing() const {
-  const float limit =
-      kNothingDeliveredClass * model::oiml_r61_x1_limits(float(result_.target_g)).initial_verification_g;
-  return float(result_.final_g) <= limit;
+bool DosingCycle::dose_delivered_nothing() const { return float(result_.final_g) <= nothing_delivered_limit_g(); }
+
+float DosingCycle::nothing_delivered_limit_g() const {
+  return kNothingDeliveredClass * model::oiml_r61_x1_limits(float(result_.target_g)).initial_verification_g;
 }
 
 DosingCycle::Outcome DosingCycle::step_pulse() {
@@ -382,8 +382,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
 }
 
 bool DosingCycle::delivered_nothing() const {
-  const float target = float(result_.target_g);
-  const float limit = kNothingDeliveredClass * model::oiml_r61_x1_limits(target).initial_verification_g;
+  const float limit = nothing_delivered_limit_g();
   const float final_g = float(result_.final_g);
   const bool share_of_its_prediction =
       last_prediction_g_ > limit && final_g > kNothingDeliveredShare * last_prediction_g_;

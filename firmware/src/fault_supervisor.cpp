@@ -103,9 +103,14 @@ Fault FaultSupervisor::watch_underload(const LoadCellInput& sample, float gross_
   ++underload_samples_;
   if (!dose_running || !(platform_hz_ > 0.0f)) return Fault::underload;
   const float load_kg = gross_g > 0.0f ? gross_g / 1000.0f : 0.0f;
+  return float(underload_samples_) > ring_crest_samples(load_kg) ? Fault::underload : Fault::none;
+}
+
+// How many samples a live reading can spend at one crest of the platform's ringing under `load_kg`:
+// about half a period, and two more.
+float FaultSupervisor::ring_crest_samples(float load_kg) const {
   const auto ringing = model::platform_ringing(platform_hz_, 0.0f, platform_kg_, load_kg);
-  const float half_period_jiffies = float(M_PI) / (ringing.omega_rad_s * jiffy_s_);
-  return float(underload_samples_) > std::ceil(half_period_jiffies) + 2.0f ? Fault::underload : Fault::none;
+  return std::ceil(float(M_PI) / (ringing.omega_rad_s * jiffy_s_)) + 2.0f;
 }
 
 Fault FaultSupervisor::watch_sample(const LoadCellInput& sample, bool weighed, float gross_g, bool dose_running) {
@@ -325,11 +330,7 @@ Fault FaultSupervisor::watch_flow(const Observation& o) {
   float needed = std::fmax(float(kFrozenMinSamples), std::ceil(kFrozenMinCounts / rate_counts));
   // At a crest of the platform's ringing the flow's rise and the ring's fall cancel for a few
   // samples: a live sensor can sit still there for up to about half a period.
-  if (platform_hz_ > 0.0f) {
-    const auto ringing = model::platform_ringing(platform_hz_, 0.0f, platform_kg_, o.filtered_g / 1000.0f);
-    const float half_period_jiffies = float(M_PI) / (ringing.omega_rad_s * jiffy_s_);
-    needed = std::fmax(needed, std::ceil(half_period_jiffies) + 2.0f);
-  }
+  if (platform_hz_ > 0.0f) needed = std::fmax(needed, ring_crest_samples(o.filtered_g / 1000.0f));
   if (float(identical_samples_ + 1) >= needed) return Fault::sensor_frozen;
   return Fault::none;
 }

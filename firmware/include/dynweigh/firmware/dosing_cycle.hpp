@@ -134,6 +134,7 @@ class DosingCycle {
   bool certify(float net_weight_g, float filtered_weight_g);
   bool certify_dynamically() const;
   bool delivered_nothing() const;
+  float nothing_delivered_limit_g() const;  // kNothingDeliveredClass x the target's X(1) limit
   void keep_top_up_flow();
   float plan_step(float growth_g_per_jiffy);
   void watch_for_frozen_reading(float net_weight_g, bool fresh);

@@ -153,6 +153,7 @@ class FaultSupervisor {
   static float landing_step_g(const Parameters& p);
   Fault watch_link(const LoadCellInput& sample);
   Fault watch_underload(const LoadCellInput& sample, float gross_g, bool dose_running);
+  float ring_crest_samples(float load_kg) const;
   Fault watch_valve(const Observation& o);
   void follow_dose_opening(const Observation& o);
   void set_valve_limits(ValveCommand command, float delay_ms);
