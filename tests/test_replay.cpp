@@ -197,8 +197,9 @@ TEST(ReplayInputsRecording, SettingsAndConsoleCommandsReplayToo) {
 TEST(ReplayInputsRecording, AnotherStrategyIsOpenLoopAndSaysSo) {
   const std::string path = temp_path("strategy.rec");
   // `readtestdata` waits for the dose's 1000-jiffy recording: jiffies enough for another strategy's dose.
-  // At 5 kg the model's close is measured on a grown stream, as late as preact's would be.
-  run_live({"dose 5000", "readtestdata"}, path);
+  // At 5 kg the model's close is measured on a grown stream, as late as preact's would be; in class
+  // X(5) it needs no fine feed, whose half-open valve preact would take for one stuck.
+  run_live({"param class 5", "dose 5000", "readtestdata"}, path);
   tools::ReplayOptions options;
   options.strategy = firmware::DosingStrategy::preact;
   Replayed replayed;

@@ -172,9 +172,11 @@ void BasicDoseEstimator<Scalar>::average_rate() {
   mean_rate_g_per_jiffy_ += gain * (observer_.rate_g_per_jiffy() - mean_rate_g_per_jiffy_);
 }
 
+// The full-open stream's flow: a fine feed's half-open stream is the valve's, not the material's.
 template <typename Scalar>
 void BasicDoseEstimator<Scalar>::record_flow() {
   estimates_.measured = true;
+  if (half_stream_) return;
   if (use_observer_) {
     const Scalar per_g_per_jiffy = Scalar(1) / (Scalar(1000) * jiffy_s_);
     estimates_.flow_kg_s = mean_rate_g_per_jiffy_ * per_g_per_jiffy;

@@ -27,8 +27,7 @@ float model_top_up_shortfall_g(DosePlan plan, float warn_low_g) {
   return (plan == DosePlan::topup ? kUndershootTopUpShare : kAimedTopUpShare) * warn_low_g;
 }
 
-void DosePlanner::configure(float class_x, float half_flow_ratio, bool fine_feed, float jiffy_s) {
-  fine_feed_ = fine_feed;
+void DosePlanner::configure(float class_x, float half_flow_ratio, float jiffy_s) {
   const float jiffy = jiffy_s > 0.0f ? jiffy_s : 0.01f;
   young_rates_ = std::uint32_t(std::lround(kYoungStreamS / jiffy));
   recent_gain_ = jiffy < kRecentRateS ? jiffy / kRecentRateS : 1.0f;
@@ -62,8 +61,36 @@ float DosePlanner::growth() const {
   return (recent_ - mean_) / mean_;
 }
 
+// The full close's stream would miss by enough to be worth a fine feed (its young stream's growth
+// left out: that is gone by the close a fine-feed time later), and half open's stream fits the
+// class. The scale the material's full-open closes showed holds their let-through too; the
+// half-open close's own let-through is in its margin (fine_feed_choice).
+bool DosePlanner::fine_feed_pays(float in_flight_g, float kept, float scale, float limit_g) const {
+  const float settled_g = scale * (kept * fluctuation() + kEstimatorShare) * in_flight_g;
+  return kSigmas * settled_g > kFineWorthLimits * limit_g && half_open_fits(in_flight_g, kept, limit_g);
+}
+
+bool DosePlanner::half_open_fits(float in_flight_g, float kept, float limit_g) const {
+  const float half_open_g = (kept * fluctuation() + kEstimatorShare + growth()) * in_flight_g * half_flow_ratio_;
+  return kSigmas * half_open_g <= limit_g;
+}
+
+// Half open: less in flight by the flow's ratio, and the half-open stream measured again. Its close
+// lets through half the flow for a closing time no fine-fed close confirms: the close aims short by
+// what that adds beyond the class.
+PlanChoice DosePlanner::fine_feed_choice(PlanChoice c, float stream_g, float scale, float full_flow_g_s) const {
+  c.plan = DosePlan::fine;
+  const float half_stream_g = scale * stream_g * half_flow_ratio_;
+  const float let_through_g = kUnlearnedLetThroughS * half_flow_ratio_ * (full_flow_g_s > 0.0f ? full_flow_g_s : 0.0f);
+  const float beyond_g =
+      kSigmas * std::sqrt(half_stream_g * half_stream_g + let_through_g * let_through_g) - c.limit_g;
+  c.margin_g = beyond_g > 0.0f ? beyond_g : 0.0f;
+  return c;
+}
+
 PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught,
-                               float flight_s, float let_through_sigma_g, float measured_sigma_scale) const {
+                               float flight_s, float let_through_sigma_g, float measured_sigma_scale,
+                               FineFeedOutlook fine) const {
   PlanChoice c;
   c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
@@ -77,10 +104,12 @@ PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_fligh
   c.sigma_g = measuring ? scale * std::sqrt(stream_g * stream_g + let_through_g * let_through_g)
                         : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;
-  // Half open: less in flight by the flow's ratio, and the half-open stream measured again.
-  if (fine_feed_ && measuring && kSigmas * measured_share * in_flight * half_flow_ratio_ <= c.limit_g) {
+  if (measuring && fine.every_dose && half_open_fits(in_flight, kept, c.limit_g)) {
     c.plan = DosePlan::fine;
     return c;
+  }
+  if (measuring && fine.in_reach && !fine.every_dose && fine_feed_pays(in_flight, kept, scale, c.limit_g)) {
+    return fine_feed_choice(c, measured_share * in_flight, scale, fine.full_flow_g_s);
   }
   c.plan = DosePlan::topup;
   c.margin_g = kSigmas * c.sigma_g - c.limit_g;

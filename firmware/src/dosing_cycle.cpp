@@ -37,7 +37,7 @@ void DosingCycle::configure(const Parameters& p) {
   pac_.configure(p);
   flow_preact_.configure(p);
   model_fine_s_ = p.get(ParameterId::model_fine_s);
-  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), model_fine_s_ > 0.0f, jiffy_s_);
+  planner_.configure(p.get(ParameterId::oiml_class), model_.half_flow_ratio(), jiffy_s_);
   timeout_s_ = p.get(ParameterId::dose_timeout_s);
   subjiffy_ = p.get(ParameterId::subjiffy) > 0.5f;
   certify_mode_ = p.certify();
@@ -62,6 +62,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   top_up_flow_g_s_ = 0.0f;
   topping_up_ = false;
   planner_.start();
+  fine_point_passed_ = false;
   plan_ = PlanChoice{};
   close_sigma_g_ = 0.0f;
   frozen_reading_ = false;
@@ -98,15 +99,17 @@ bool DosingCycle::decide_model(float net_weight_g) {
   const float growth = model_.growth_per_jiffy_g();
   const float aim = target - plan_step(growth);
   // A half-open fine feed for the last fine_s of full flow: less material in flight means less of
-  // the flow's fluctuation left unobserved at the close.
-  const float fine_s = model_fine_s_;
-  if (fine_s > 0.0f && !model_.fine_feeding() && model_.measuring() &&
-      last_prediction_g_ + growth * fine_s / jiffy_s_ >= aim) {
+  // the flow's fluctuation left unobserved at the close. Where the plan chose it, or on every
+  // measured dose where `model_fine_s` is set.
+  const bool at_fine_point = !model_.fine_feeding() && last_prediction_g_ + growth * fine_lead_s() / jiffy_s_ >= aim;
+  const bool fine_wanted = model_fine_s_ > 0.0f || plan_.plan == DosePlan::fine;
+  if (at_fine_point && fine_wanted && model_.measuring()) {
     model_.switch_to_half(last_prediction_g_);
     plan_.plan = DosePlan::fine;
     valve_ = ValveCommand::half;
     return false;
   }
+  if (at_fine_point) fine_point_passed_ = true;
   const float earliest = model_.earliest_close_fraction();
   if (model_.beyond_the_law() && earliest <= 0.0f) {
     model_.closed(0.0f);
@@ -129,6 +132,13 @@ bool DosingCycle::decide_model(float net_weight_g) {
   return true;
 }
 
+// How many seconds of full flow before the target a fine feed begins: `model_fine_s`, or what the
+// half-open stream needs to land and be measured again before the close, at half open's flow.
+float DosingCycle::fine_lead_s() const {
+  if (model_fine_s_ > 0.0f) return model_fine_s_;
+  return model_.half_flow_ratio() * (model_.settle_delay_s() + DosePlanner::kFineMeasureS);
+}
+
 // The model's plan for a close now (dose_plan.hpp); returns how far short of the target to aim.
 // Once the fine feed runs, the plan is kept: the half-open stream is measured again anyway.
 float DosingCycle::plan_step(float growth_g_per_jiffy) {
@@ -147,8 +157,9 @@ float DosingCycle::plan_step(float growth_g_per_jiffy) {
   const bool let_through_taught = model_.fill_law().learned().residual_fills > 0;
   const float let_through_sigma_g =
       let_through_taught ? 0.0f : DosePlanner::kUnlearnedLetThroughS * growth_g_per_jiffy / jiffy_s_;
+  const FineFeedOutlook fine{!fine_point_passed_, model_fine_s_ > 0.0f, growth_g_per_jiffy / jiffy_s_};
   plan_ = planner_.choose(float(result_.target_g), last_prediction_g_, in_flight_g, model_.measuring(), law_taught,
-                          model_.settle_delay_s(), let_through_sigma_g, measured_sigma_scale_);
+                          model_.settle_delay_s(), let_through_sigma_g, measured_sigma_scale_, fine);
   // What the close teaches of the scale is measured against the model's own uncertainty.
   close_sigma_g_ = model_.measuring() ? plan_.sigma_g / measured_sigma_scale_ : 0.0f;
   return plan_.margin_g;

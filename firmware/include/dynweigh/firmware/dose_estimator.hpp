@@ -24,7 +24,7 @@ struct DoseEstimates {
   Scalar first_impact_s = 0;  // from the open command
   Scalar dead_time_s = 0;     // the first impact less the fall from rest (opening_estimator.hpp)
   bool measured = false;
-  Scalar flow_kg_s = 0;       // the mean landing rate at the last prediction
+  Scalar flow_kg_s = 0;       // the mean landing rate at the last prediction at full open
   model::ImpactSignature<Scalar> signature{};
 };
 

@@ -3,9 +3,11 @@
 // and its own uncertainty about where a close now would end. The fastest plan that meets the class:
 //   full   full flow to the close, when twice the uncertainty fits in the class's warning limit;
 //   fine   full flow, then a half-open fine feed before the close (less in flight, re-measured),
-//          when that fits, the stream is measured and the fine feed is enabled (`model_fine_s` > 0:
-//          its length; a fine feed the plan chose by itself upset the valve supervision of the
-//          next doses on a slow valve, so it is not chosen unasked);
+//          when the stream is measured, the half-open close fits, and the full one would miss by
+//          enough that its undershoot would likely need a pulse (a pulse waits for its grains to
+//          land; the fine feed only slows the last of the fill). It is chosen before its switch
+//          point (the half-open stream must land and be measured before the close), never after;
+//          `model_fine_s` > 0 runs one of that length on every measured dose instead;
 //   topup  a deliberate undershoot: the close aims short by what does not fit, so that the fill
 //          ends below the target rather than over it, and top-up pulses finish it.
 // The uncertainty: a close before the stream is measured rests on the prior (off by up to 40 %:
@@ -25,6 +27,16 @@ const char* dose_plan_name(DosePlan plan);
 // after a deliberate undershoot, 0.3 of it, below the quarter of the in-service limit (0.36 TL1)
 // R61 allows the fills' mean, since every such fill ends short.
 float model_top_up_shortfall_g(DosePlan plan, float warn_low_g);
+
+// A half-open fine feed as the plan sees it: whether its switch point is still ahead, whether
+// `model_fine_s` runs one on every measured dose anyway (the plan is then `fine` wherever half open
+// fits, and aims at the target), and the full-open flow (the half-open close lets through half of
+// it, by a timing no close confirmed).
+struct FineFeedOutlook {
+  bool in_reach = false;
+  bool every_dose = false;
+  float full_flow_g_s = 0.0f;
+};
 
 struct PlanChoice {
   DosePlan plan = DosePlan::full;
@@ -59,10 +71,16 @@ class DosePlanner {
   // start-up is 0.05 to 0.5 s, the valve's stroke up to 0.3 s, seen after the fall).
   static constexpr float kYoungStreamS = 1.0f;
   static constexpr float kRecentRateS = 0.05f;  // the recent rate's time constant, against the mean
+  // A fine feed costs the half-open stream's landing and measuring at half the flow; a top-up costs
+  // a pulse and a second landing. The fine feed pays where the undershoot would more likely than not
+  // end below the top-up threshold (0.3 TL1): twice the full close's uncertainty beyond 1.3 TL1.
+  static constexpr float kFineWorthLimits = 1.3f;
+  // The half-open stream measured again before the close, after it has landed.
+  static constexpr float kFineMeasureS = 0.3f;
 
   // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
-  // `fine_feed` whether the plan may choose a fine feed; `jiffy_s` the control period.
-  void configure(float class_x, float half_flow_ratio, bool fine_feed, float jiffy_s);
+  // `jiffy_s` the control period.
+  void configure(float class_x, float half_flow_ratio, float jiffy_s);
   void start();
   // Each jiffy the stream is measured: the landing rate, for its fluctuation.
   void observe_rate(float rate_g_per_jiffy);
@@ -74,18 +92,23 @@ class DosePlanner {
   // does not average at all). `let_through_sigma_g`: what a measured close may be off by because
   // no measured close of this material has yet shown what the valve lets through.
   // `measured_sigma_scale`: what this material's measured closes showed of that uncertainty
-  // (measured_close_spread.hpp); it scales a measured close's sigma.
+  // (measured_close_spread.hpp); it scales a measured close's sigma. `fine`: whether a fine feed
+  // may still be chosen (none unless in reach).
   PlanChoice choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught = false,
-                    float flight_s = 0.0f, float let_through_sigma_g = 0.0f, float measured_sigma_scale = 1.0f) const;
+                    float flight_s = 0.0f, float let_through_sigma_g = 0.0f, float measured_sigma_scale = 1.0f,
+                    FineFeedOutlook fine = {}) const;
   float fluctuation() const;  // the landing rate's relative standard deviation in this dose
   // While the stream is young, how far its recent landing rate is above its mean, as a share of
   // the mean; 0 once it is not young, or not growing.
   float growth() const;
 
  private:
+  bool fine_feed_pays(float in_flight_g, float kept, float scale, float limit_g) const;
+  bool half_open_fits(float in_flight_g, float kept, float limit_g) const;
+  PlanChoice fine_feed_choice(PlanChoice c, float stream_g, float scale, float full_flow_g_s) const;
+
   float class_x_ = 1.0f;
   float half_flow_ratio_ = 0.5f;
-  bool fine_feed_ = false;
   std::uint32_t young_rates_ = 100;
   float recent_gain_ = 0.2f;
   std::uint32_t rates_ = 0;

@@ -137,6 +137,7 @@ class DosingCycle {
   float nothing_delivered_limit_g() const;  // kNothingDeliveredClass x the target's X(1) limit
   void keep_top_up_flow();
   float plan_step(float growth_g_per_jiffy);
+  float fine_lead_s() const;
   void watch_for_frozen_reading(float net_weight_g, bool fresh);
   Outcome step_pulse();
 
@@ -150,6 +151,7 @@ class DosingCycle {
   float jiffy_s_ = 0.01f;
   float preact_g_ = 0.0f;
   float model_fine_s_ = 0.0f;
+  bool fine_point_passed_ = false;  // this dose's fine feed would have begun by now: no longer a plan
   float timeout_s_ = 120.0f;
   float settle_limit_s_ = 60.0f;
   bool subjiffy_ = true;
