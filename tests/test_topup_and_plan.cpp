@@ -581,6 +581,14 @@ TEST(DosePlan, TheDefaultSceneAtFiveKilogramsChoosesItsFineFeedByItself) {
   EXPECT_GT(2.0 * std::stod(field(plan, "sigma_g")), firmware::DosePlanner::kFineWorthLimits * x1_limit_g(5000.0))
       << plan;
   EXPECT_LE(std::fabs(fed.true_error_g), x1_limit_g(5000.0)) << fed.result;
+  // The line estimator (a fit over model_window_ms instead of the observer) goes on fitting the
+  // half-open stream it closes on (here a fine feed of 0.5 s of full flow on every dose).
+  ConsoleSession line;
+  line.run({"param model_estimator line", "param model_fine_s 0.5"});
+  const Dose line_fed = dose(line, 5000.0);
+  std::printf("%s\n", line_fed.result.c_str());
+  EXPECT_EQ(field(line_fed.result, "plan"), "fine") << line_fed.result;
+  EXPECT_LE(std::fabs(line_fed.true_error_g), x1_limit_g(5000.0)) << line_fed.result;
 }
 
 // Two streams with the same rates, one climbing and one falling: the same mean and the same

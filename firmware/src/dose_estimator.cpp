@@ -172,18 +172,19 @@ void BasicDoseEstimator<Scalar>::average_rate() {
   mean_rate_g_per_jiffy_ += gain * (observer_.rate_g_per_jiffy() - mean_rate_g_per_jiffy_);
 }
 
-// The full-open stream's flow: a fine feed's half-open stream is the valve's, not the material's.
+// The flow reported is the full-open stream's: a fine feed's half-open stream is the valve's, not
+// the material's. The line fit goes on either way (the line estimator predicts from it).
 template <typename Scalar>
 void BasicDoseEstimator<Scalar>::record_flow() {
   estimates_.measured = true;
-  if (half_stream_) return;
+  Scalar flow_kg_s;
   if (use_observer_) {
-    const Scalar per_g_per_jiffy = Scalar(1) / (Scalar(1000) * jiffy_s_);
-    estimates_.flow_kg_s = mean_rate_g_per_jiffy_ * per_g_per_jiffy;
-    return;
+    flow_kg_s = mean_rate_g_per_jiffy_ / (Scalar(1000) * jiffy_s_);
+  } else {
+    line_ = fit_.fit();
+    flow_kg_s = line_.slope_per_sample / (Scalar(1000) * jiffy_s_);
   }
-  line_ = fit_.fit();
-  estimates_.flow_kg_s = line_.slope_per_sample / (Scalar(1000) * jiffy_s_);
+  if (!half_stream_) estimates_.flow_kg_s = flow_kg_s;
 }
 
 template <typename Scalar>

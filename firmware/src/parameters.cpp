@@ -43,7 +43,7 @@ constexpr ParameterSpec kSpecs[kParameterCount] = {
     {"twostage_preact_g", "twostage strategy: fine cutoff this far before the target (negative: after it), "
      "adapted after each fill, g", -100000, 100000, 140, nullptr, 0},
     {"model_fine_s", "model strategy: half-open fine feed for this many seconds of full flow before the "
-     "target on every dose (0: where the plan finds it pays)", 0, 10, 0, nullptr, 0},
+     "target (0: the plan's choice)", 0, 10, 0, nullptr, 0},
     {"pile_rise", "model strategy: the heap rises in the container (1), or the fall height stays fixed (0: a "
      "level-held hopper, the ideal model)", 0, 1, 1, nullptr, 0},
     {"model_estimator", "model strategy: observer (Kalman, sees through the ringing) or line (fit, model_window_ms)",
