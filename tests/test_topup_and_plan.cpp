@@ -561,7 +561,8 @@ TEST(DosePlan, ChoosesAFineFeedWhereTheFullCloseMissesAndTheHalfOpenOneFits) {
   EXPECT_NEAR(fine.margin_g, 2.0f * std::hypot(half_stream_g, let_through_g) - tl1, 0.01f * tl1);
   EXPECT_LT(fine.margin_g, 0.25f * tl1);
 
-  EXPECT_EQ(plan_for(in_flight_for(1.6f), firmware::FineFeedOutlook{false, false, kFlowGS}).plan, firmware::DosePlan::topup);
+  const firmware::FineFeedOutlook passed{false, false, kFlowGS};
+  EXPECT_EQ(plan_for(in_flight_for(1.6f), passed).plan, firmware::DosePlan::topup);
   EXPECT_EQ(plan_for(in_flight_for(2.2f), ahead).plan, firmware::DosePlan::topup);
   EXPECT_EQ(planner.choose(kTargetG, kTargetG, in_flight_for(1.6f), false, true, 0.0f, 0.0f, 1.0f, ahead).plan,
             firmware::DosePlan::topup);  // a blind close: nothing measured to fine-feed on
