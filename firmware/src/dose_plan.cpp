@@ -65,14 +65,12 @@ float DosePlanner::growth() const {
 // left out: that is gone by the close a fine-feed time later), and half open's stream fits the
 // class. The scale the material's full-open closes showed holds their let-through too; the
 // half-open close's own let-through is in its margin (fine_feed_choice).
-bool DosePlanner::fine_feed_pays(float in_flight_g, float kept, float scale, float limit_g) const {
-  const float settled_g = scale * (kept * fluctuation() + kEstimatorShare) * in_flight_g;
-  return kSigmas * settled_g > kFineWorthLimits * limit_g && half_open_fits(in_flight_g, kept, limit_g);
+bool DosePlanner::fine_feed_pays(float settled_stream_g, float stream_g, float limit_g) const {
+  return kSigmas * settled_stream_g > kFineWorthLimits * limit_g && half_open_fits(stream_g, limit_g);
 }
 
-bool DosePlanner::half_open_fits(float in_flight_g, float kept, float limit_g) const {
-  const float half_open_g = (kept * fluctuation() + kEstimatorShare + growth()) * in_flight_g * half_flow_ratio_;
-  return kSigmas * half_open_g <= limit_g;
+bool DosePlanner::half_open_fits(float stream_g, float limit_g) const {
+  return kSigmas * stream_g * half_flow_ratio_ <= limit_g;
 }
 
 // Half open: less in flight by the flow's ratio, and the half-open stream measured again. Its close
@@ -104,12 +102,13 @@ PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_fligh
   c.sigma_g = measuring ? scale * std::sqrt(stream_g * stream_g + let_through_g * let_through_g)
                         : blind_share * (predicted_g > 0.0f ? predicted_g : 0.0f);
   if (kSigmas * c.sigma_g <= c.limit_g) return c;
-  if (measuring && fine.every_dose && half_open_fits(in_flight, kept, c.limit_g)) {
+  if (measuring && fine.every_dose && half_open_fits(stream_g, c.limit_g)) {
     c.plan = DosePlan::fine;
     return c;
   }
-  if (measuring && fine.in_reach && !fine.every_dose && fine_feed_pays(in_flight, kept, scale, c.limit_g)) {
-    return fine_feed_choice(c, measured_share * in_flight, scale, fine.full_flow_g_s);
+  const float settled_stream_g = scale * (kept * fluctuation() + kEstimatorShare) * in_flight;
+  if (measuring && fine.in_reach && !fine.every_dose && fine_feed_pays(settled_stream_g, stream_g, c.limit_g)) {
+    return fine_feed_choice(c, stream_g, scale, fine.full_flow_g_s);
   }
   c.plan = DosePlan::topup;
   c.margin_g = kSigmas * c.sigma_g - c.limit_g;

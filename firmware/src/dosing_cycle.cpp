@@ -101,7 +101,9 @@ bool DosingCycle::decide_model(float net_weight_g) {
   // A half-open fine feed for the last fine_s of full flow: less material in flight means less of
   // the flow's fluctuation left unobserved at the close. Where the plan chose it, or on every
   // measured dose where `model_fine_s` is set.
-  const bool at_fine_point = !model_.fine_feeding() && last_prediction_g_ + growth * fine_lead_s() / jiffy_s_ >= aim;
+  // Once the plan's switch point has passed it is no longer a plan: nothing left to time.
+  const bool may_switch = !model_.fine_feeding() && (model_fine_s_ > 0.0f || !fine_point_passed_);
+  const bool at_fine_point = may_switch && last_prediction_g_ + growth * fine_lead_s() / jiffy_s_ >= aim;
   const bool fine_wanted = model_fine_s_ > 0.0f || plan_.plan == DosePlan::fine;
   if (at_fine_point && fine_wanted && model_.measuring()) {
     model_.switch_to_half(last_prediction_g_);

@@ -103,8 +103,8 @@ class DosePlanner {
   float growth() const;
 
  private:
-  bool fine_feed_pays(float in_flight_g, float kept, float scale, float limit_g) const;
-  bool half_open_fits(float in_flight_g, float kept, float limit_g) const;
+  bool fine_feed_pays(float settled_stream_g, float stream_g, float limit_g) const;
+  bool half_open_fits(float stream_g, float limit_g) const;
   PlanChoice fine_feed_choice(PlanChoice c, float stream_g, float scale, float full_flow_g_s) const;
 
   float class_x_ = 1.0f;
