@@ -721,5 +721,23 @@ TEST(DosePlan, WhatTheMaterialsMeasuredClosesShowedScalesAMeasuredClosesUncertai
                   planner.choose(5000.0f, 4000.0f, in_flight_g, false, true, 0.5f).sigma_g);
 }
 
+// A pulse that brought more than the law expected moves the law's prediction for that pulse up,
+// never down, even where the fit would explain it by a loss below zero (held at zero).
+TEST(TopUpPulseLaw, APulseThatBroughtMoreNeverLowersWhatTheLawExpectsOfIt) {
+  for (float share : {1.3f, 2.0f, 3.0f}) {
+    firmware::TopUpPulseLaw law;
+    law.begin(4000.0f, 0.5f, 0.08f, 2.0f);
+    law.observe_dose(0.5f, 1800.0f);
+    for (int pulse = 0; pulse < 8; ++pulse) {
+      const firmware::TopUpPulseLaw::Pulse p = law.size(300.0f - 30.0f * float(pulse));
+      const float got = share * p.expected_g;
+      law.learn(p, got);
+      const float after = law.expected_g(p.command == firmware::ValveCommand::half, p.seconds);
+      EXPECT_GE(after, p.expected_g) << "share " << share << ", pulse " << pulse << " of " << p.seconds << " s";
+      EXPECT_GE(law.start_loss_g(true), 0.0f);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynweigh::testing
