@@ -274,8 +274,9 @@ PlanChoice DosingCycle::plan() const {
 
 bool DosingCycle::learn_top_up(float delivered_g) {
   const bool sized = sizes_top_ups();
-  const PulseVerdict verdict =
-      judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, model_.stroke_in_use_s_now(), sized);
+  const float position = pulse_.command == ValveCommand::half ? 0.5f : 1.0f;
+  const float travel_s = position * model_.stroke_in_use_s_now();
+  const PulseVerdict verdict = judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, travel_s, sized);
   if (verdict == PulseVerdict::moved_nothing) return false;
   if (sized) top_up_law_.learn(pulse_, delivered_g > 0.0f ? delivered_g : 0.0f);
   return true;
