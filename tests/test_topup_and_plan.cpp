@@ -505,7 +505,7 @@ TEST(TopUpPulse, OnlyASizedPulseTooShortToPartTheGateMayMoveNothingAndGoOn) {
   EXPECT_EQ(judge_pulse(40.0f, 8.0f, 0.30f, kTravelS, true), PulseVerdict::delivered);
   EXPECT_EQ(judge_pulse(40.0f, 1.3f, 0.06f, kTravelS, true), PulseVerdict::delivered);
   EXPECT_EQ(judge_pulse(10.0f, 1.0f, 0.30f, kTravelS, false), PulseVerdict::delivered);
-  // No stroke known: no pulse is too short to part the gate.
+  // No travel known: no pulse is too short to part the gate.
   EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.001f, 0.0f, true), PulseVerdict::moved_nothing);
 }
 
