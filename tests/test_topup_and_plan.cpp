@@ -741,5 +741,22 @@ TEST(TopUpPulseLaw, APulseThatBroughtMoreNeverLowersWhatTheLawExpectsOfIt) {
   }
 }
 
+// And one that brought less moves it down, never up, even where the fit would explain it by a flow
+// below the lowest the law allows (held there, the loss takes up the rest).
+TEST(TopUpPulseLaw, APulseThatBroughtLessNeverRaisesWhatTheLawExpectsOfIt) {
+  for (float share : {0.5f, 0.2f, 0.1f}) {
+    firmware::TopUpPulseLaw law;
+    law.begin(4000.0f, 0.5f, 0.08f, 2.0f);
+    law.observe_dose(0.5f, 1800.0f);
+    for (int pulse = 0; pulse < 8; ++pulse) {
+      const firmware::TopUpPulseLaw::Pulse p = law.size(300.0f - 30.0f * float(pulse));
+      law.learn(p, share * p.expected_g);
+      const float after = law.expected_g(p.command == firmware::ValveCommand::half, p.seconds);
+      EXPECT_LE(after, p.expected_g) << "share " << share << ", pulse " << pulse << " of " << p.seconds << " s";
+      EXPECT_GE(law.start_loss_g(true), 0.0f);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynweigh::testing

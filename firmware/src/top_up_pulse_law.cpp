@@ -37,6 +37,8 @@ constexpr float kTravelGain = 0.3f;
 constexpr float kTravelStepFactor = 2.0f;
 constexpr int kTravelBisections = 10;
 
+float held(float value, float low, float high) { return value < low ? low : (value > high ? high : value); }
+
 float loss_regressor(float open_s) { return open_s < kLossBuildS ? -open_s / kLossBuildS : -1.0f; }
 }  // namespace
 
@@ -92,16 +94,20 @@ void TopUpPulseLaw::observe(Law& law, float seconds, float delivered_g) {
   const float open_s = open_seconds(law, seconds);
   if (!law.rls.update(open_s, loss_regressor(open_s), delivered_g)) return;
   TwoParameterRls::State s = law.rls.state();
-  // A loss beyond its bounds is held at the bound, and the flow moves with it as far as the law's
-  // covariance ties the two: the fit of the law given that loss. Holding the loss alone would keep
-  // the flow the unbounded fit chose, and a pulse that brought more than expected, explained by a
-  // loss below zero, would have lowered the flow: the next pulse longer, the miss larger.
+  // A loss or a flow beyond its bounds is held at the bound, and the other moves with it as far as
+  // the law's covariance ties the two: the fit of the law given the held value. Holding one alone
+  // would keep the other where the unbounded fit put it: a pulse that brought more than expected,
+  // explained by a loss below zero, would have lowered the flow, the next pulse longer, the miss
+  // larger.
   const float c_low = 0.0f, c_high = kLossMaxS * law.prior_flow_g_s;
-  const float c_held = s.theta2 < c_low ? c_low : (s.theta2 > c_high ? c_high : s.theta2);
+  const float c_held = held(s.theta2, c_low, c_high);
   if (c_held != s.theta2 && s.p22 > 0.0f) s.theta1 += s.p12 / s.p22 * (c_held - s.theta2);
   s.theta2 = c_held;
-  const float q_low = kFlowLow * law.prior_flow_g_s, q_high = kFlowHigh * law.prior_flow_g_s;
-  s.theta1 = s.theta1 < q_low ? q_low : (s.theta1 > q_high ? q_high : s.theta1);
+  const float q_held = held(s.theta1, kFlowLow * law.prior_flow_g_s, kFlowHigh * law.prior_flow_g_s);
+  if (q_held != s.theta1 && s.p11 > 0.0f) {
+    s.theta2 = held(s.theta2 + s.p12 / s.p11 * (q_held - s.theta1), c_low, c_high);
+  }
+  s.theta1 = q_held;
   law.rls.restore(s);
   if (law.seen < 255) ++law.seen;
 }
