@@ -723,20 +723,32 @@ TEST(DosePlan, WhatTheMaterialsMeasuredClosesShowedScalesAMeasuredClosesUncertai
                   planner.choose(5000.0f, 4000.0f, in_flight_g, false, true, 0.5f).sigma_g);
 }
 
+// What a half-open law expects of each of eight pulses before and after learning what it brought:
+// `share` times its expectation, every pulse.
+struct PulseLesson {
+  float seconds, before_g, after_g, loss_after_g;
+};
+std::vector<PulseLesson> lessons_of_pulses_bringing(float share) {
+  firmware::TopUpPulseLaw law;
+  law.begin(4000.0f, 0.5f, 0.08f, 2.0f);
+  law.observe_dose(0.5f, 1800.0f);
+  std::vector<PulseLesson> lessons;
+  for (int pulse = 0; pulse < 8; ++pulse) {
+    const firmware::TopUpPulseLaw::Pulse p = law.size(300.0f - 30.0f * float(pulse));
+    law.learn(p, share * p.expected_g);
+    const float after = law.expected_g(p.command == firmware::ValveCommand::half, p.seconds);
+    lessons.push_back({p.seconds, p.expected_g, after, law.start_loss_g(true)});
+  }
+  return lessons;
+}
+
 // A pulse that brought more than the law expected moves the law's prediction for that pulse up,
 // never down, even where the fit would explain it by a loss below zero (held at zero).
 TEST(TopUpPulseLaw, APulseThatBroughtMoreNeverLowersWhatTheLawExpectsOfIt) {
   for (float share : {1.3f, 2.0f, 3.0f}) {
-    firmware::TopUpPulseLaw law;
-    law.begin(4000.0f, 0.5f, 0.08f, 2.0f);
-    law.observe_dose(0.5f, 1800.0f);
-    for (int pulse = 0; pulse < 8; ++pulse) {
-      const firmware::TopUpPulseLaw::Pulse p = law.size(300.0f - 30.0f * float(pulse));
-      const float got = share * p.expected_g;
-      law.learn(p, got);
-      const float after = law.expected_g(p.command == firmware::ValveCommand::half, p.seconds);
-      EXPECT_GE(after, p.expected_g) << "share " << share << ", pulse " << pulse << " of " << p.seconds << " s";
-      EXPECT_GE(law.start_loss_g(true), 0.0f);
+    for (const PulseLesson& l : lessons_of_pulses_bringing(share)) {
+      EXPECT_GE(l.after_g, l.before_g) << "share " << share << ", pulse of " << l.seconds << " s";
+      EXPECT_GE(l.loss_after_g, 0.0f);
     }
   }
 }
@@ -745,15 +757,9 @@ TEST(TopUpPulseLaw, APulseThatBroughtMoreNeverLowersWhatTheLawExpectsOfIt) {
 // below the lowest the law allows (held there, the loss takes up the rest).
 TEST(TopUpPulseLaw, APulseThatBroughtLessNeverRaisesWhatTheLawExpectsOfIt) {
   for (float share : {0.5f, 0.2f, 0.1f}) {
-    firmware::TopUpPulseLaw law;
-    law.begin(4000.0f, 0.5f, 0.08f, 2.0f);
-    law.observe_dose(0.5f, 1800.0f);
-    for (int pulse = 0; pulse < 8; ++pulse) {
-      const firmware::TopUpPulseLaw::Pulse p = law.size(300.0f - 30.0f * float(pulse));
-      law.learn(p, share * p.expected_g);
-      const float after = law.expected_g(p.command == firmware::ValveCommand::half, p.seconds);
-      EXPECT_LE(after, p.expected_g) << "share " << share << ", pulse " << pulse << " of " << p.seconds << " s";
-      EXPECT_GE(law.start_loss_g(true), 0.0f);
+    for (const PulseLesson& l : lessons_of_pulses_bringing(share)) {
+      EXPECT_LE(l.after_g, l.before_g) << "share " << share << ", pulse of " << l.seconds << " s";
+      EXPECT_GE(l.loss_after_g, 0.0f);
     }
   }
 }
