@@ -7,8 +7,8 @@ bin=$(cd "$1" && pwd); data=$(cd "$(dirname "$0")/../data" && pwd); work=$(mktem
 cd "$work"
 
 # 1. The main job: dose 10000 g on the default plant, seed 1 (tools/main-job.sh).
-expected_csv_sha256=4f0623cd76495524019f404a4768df9a5c6c38a18d5d747abed3beae535ffc3f
-expected_result='RESULT target=10000 final=9984 error=-16 time=5650 cutoff=474 strategy=model'
+expected_csv_sha256=6527565c326288912b3eb318136bd95555050931be01f0adfd9f64da68bbdcd8
+expected_result='RESULT target=10000 final=9984 error=-16 time=5520 cutoff=474 strategy=model'
 printf 'dose 10000\n' | "$bin/dynweigh-fw" --csv cycle.csv > cycle.txt
 # RESULT's six fields; the fields after them (tolerance=, topups=, seq=, ...) are read by key elsewhere.
 result=$(grep '^RESULT' cycle.txt)
