@@ -68,8 +68,8 @@ void print(const char* name, int samples, const Outcome& o) {
               samples, o.certifiable, o.within_error, o.within_certified, o.mean_error_g);
 }
 
-// 5.5 Hz at 100 samples a second: 1 - c1 - c2 is about 0.1, and the Prony fit's error of W some
-// three times the noise whatever the window (it never reaches 1.5 g here).
+// 5.5 Hz at 100 samples a second: 1 - c1 - c2 is about 0.1, and the Prony fit's error of W two
+// to five times the noise over the window (it never reaches 1.5 g here).
 TEST(DampedSettlingFit, CertifiesASlowPlatformWithinTwoPeriods) {
   const Ring slow{5.5, 0.07, 40.0, 1.5};
   const Outcome o = fit_draws(slow, 30);
