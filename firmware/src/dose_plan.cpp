@@ -86,11 +86,15 @@ PlanChoice DosePlanner::fine_feed_choice(PlanChoice c, float stream_g, float sca
   return c;
 }
 
+float DosePlanner::class_limit_g(float target_g) const {
+  return class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
+}
+
 PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught,
                                float flight_s, float let_through_sigma_g, float measured_sigma_scale,
                                FineFeedOutlook fine) const {
   PlanChoice c;
-  c.limit_g = class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
+  c.limit_g = class_limit_g(target_g);
   const float in_flight = in_flight_g > 0.0f ? in_flight_g : 0.0f;
   // The flow's fluctuation is partly averaged out over the flight.
   const float kept = model::fluctuation_share_of_window_mean(kFluctuationCorrelationS, flight_s);

@@ -220,7 +220,7 @@ void DosingCycle::keep_top_up_flow() {
   top_up_flow_g_s_ = flow_g_s > 0.0f ? flow_g_s : 0.0f;
 }
 
-void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, bool last) {
+void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after) {
   if (!topping_up_ && sizes_top_ups()) {
     top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_in_use_s_now(), kLongestSizedPulseS,
                       model_.gate_flow_shape());
@@ -228,7 +228,7 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, bool last) 
   }
   topping_up_ = true;
   if (sizes_top_ups()) {
-    pulse_ = top_up_law_.size(deficit_g, last);
+    pulse_ = top_up_law_.size(deficit_g, {pulses_after, planner_.class_limit_g(float(result_.target_g))});
   } else {
     pulse_ = TopUpPulseLaw::Pulse{ValveCommand::open, fixed_pulse_s, 0.0f};
   }

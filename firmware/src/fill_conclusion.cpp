@@ -47,7 +47,7 @@ void Indicator::save_lessons() {
 void Indicator::start_top_up() {
   follow_up_.start_top_up();
   dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s(),
-                       !follow_up_.may_top_up());
+                       follow_up_.pulses_left());
 }
 
 void Indicator::judge_result() {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "dynweigh/firmware/pulse_pair_risk.hpp"
+
 namespace dynweigh::firmware {
 namespace {
 // A learned flow is held within these shares of its prior: a pulse whose mass was read badly must
@@ -217,17 +219,45 @@ float TopUpPulseLaw::spread_g(const Law& law, float seconds) const {
   return unsure_g(law, seconds) + kJitterS * law.rls.state().theta1;
 }
 
-float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, bool last) const {
+float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, const Outlook& outlook) const {
+  const bool last = outlook.pulses_after == 0;
   if (last && law.pulses == 0) return deficit_g;
   if (last) {
     const float aim = deficit_g - kLastAimSigmas * unsure_g(law, seconds_for(law, deficit_g));
     return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
   }
   if (law.seen == 0) return kFirstAim * deficit_g;
+  if (outlook.pulses_after == 1 && law.pulses < kRiskAimPulses && outlook.limit_g > 0.0f) {
+    return risk_aim_g(law, deficit_g, outlook.limit_g);
+  }
+  return sure_aim_g(law, deficit_g);
+}
+
+float TopUpPulseLaw::sure_aim_g(const Law& law, float deficit_g) const {
   const float most = kLaterAim * deficit_g;
   const float sure = deficit_g - kAimSigmas * spread_g(law, seconds_for(law, most));
   const float aim = sure < most ? sure : most;
   return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
+}
+
+// The aim, from kLeastAim of the deficit to all of it, whose fill is likeliest within `limit_g`;
+// of aims as likely, the one that leaves the least for the last pulse. The last pulse's spread is
+// the law's at a tenth and at half the deficit, taken as a line.
+float TopUpPulseLaw::risk_aim_g(const Law& law, float deficit_g, float limit_g) const {
+  const float small_g = 0.1f * deficit_g, large_g = 0.5f * deficit_g;
+  const float small_spread_g = spread_g(law, seconds_for(law, small_g));
+  const float per_g = (spread_g(law, seconds_for(law, large_g)) - small_spread_g) / (large_g - small_g);
+  const LastPulseSpread last{small_spread_g - per_g * small_g, per_g};
+  float best_aim_g = kLeastAim * deficit_g, best_chance = 2.0f;
+  for (int i = 0; i <= kRiskAimSteps; ++i) {
+    const float aim = (kLeastAim + (1.0f - kLeastAim) * float(i) / float(kRiskAimSteps)) * deficit_g;
+    const float chance = pulse_pair_miss_chance(deficit_g, aim, spread_g(law, seconds_for(law, aim)), last, limit_g);
+    if (chance <= best_chance) {
+      best_chance = chance;
+      best_aim_g = aim;
+    }
+  }
+  return best_aim_g;
 }
 
 // Half open, unless the longest pulse at half open's flow could not bring what is missing (and the
@@ -240,12 +270,18 @@ void TopUpPulseLaw::choose(float deficit_g) {
 }
 
 TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g, bool last) {
+  Outlook outlook;
+  if (last) outlook.pulses_after = 0;
+  return size(deficit_g, outlook);
+}
+
+TopUpPulseLaw::Pulse TopUpPulseLaw::size(float deficit_g, const Outlook& outlook) {
   const float deficit = deficit_g > 0.0f ? deficit_g : 0.0f;
   if (!chosen_) choose(deficit);
   const Law& chosen = law(half_open_);
   Pulse pulse;
   pulse.command = half_open_ ? ValveCommand::half : ValveCommand::open;
-  pulse.seconds = seconds_for(chosen, aim_g(chosen, deficit, last));
+  pulse.seconds = seconds_for(chosen, aim_g(chosen, deficit, outlook));
   pulse.expected_g = expected_g(half_open_, pulse.seconds);
   return pulse;
 }

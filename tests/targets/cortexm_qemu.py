@@ -5,7 +5,11 @@ on UART0 (-serial stdio) and the plant on UART1 as SLCAN over a unix socket
   --mode testdata: starttestdata 50 600, wait for the cycle, readtestdata -> 1000 records + OK
   --mode dose:     dose 5000 -> RESULT line; then 8 doses of 1000 g, so that the last ones time
                    their close with the material's full history of doses (dose_history.hpp, the
-                   heaviest fit); the plant's truth within 100 g of the targets' sum
+                   heaviest fit); the plant's truth within 100 g of the targets' sum.
+                   --scene, --first-g, --small-doses, --small-g change the plant and the doses:
+                   `--scene tall-drop --first-g 500 --small-doses 1 --small-g 500` tops up every
+                   dose three times, each pulse certified dynamically on a platform that rings
+                   long (the settling fit over its whole window, every jiffy)
   --plugin SO:     count the instructions of Indicator::step per jiffy (goal < 20,000 while dosing)
 """
 import argparse
@@ -21,8 +25,6 @@ import time
 
 from targets_common import fail, skip, stop, key_values, field, which
 
-SMALL_DOSES, SMALL_DOSE_G = 8, 1000  # 13 kg in all, of the default silo's 18
-
 a = argparse.ArgumentParser()
 a.add_argument("--elf", required=True)
 a.add_argument("--dynweigh", required=True)
@@ -32,7 +34,12 @@ a.add_argument("--seed", default="1")
 a.add_argument("--plugin")
 a.add_argument("--budget", type=int, default=20000)
 a.add_argument("--timeout", type=float, default=55)
+a.add_argument("--scene", default="default")
+a.add_argument("--first-g", type=int, default=5000)
+a.add_argument("--small-doses", type=int, default=8)  # 13 kg in all, of the default silo's 18
+a.add_argument("--small-g", type=int, default=1000)
 args = a.parse_args()
+SMALL_DOSES, SMALL_DOSE_G = args.small_doses, args.small_g
 
 qemu = which("qemu-system-arm")
 if not qemu:
@@ -73,7 +80,7 @@ with tempfile.TemporaryDirectory() as tmp:
         if "waiting for connection" not in line:
             fail(f"QEMU did not start: {line}{board.stderr.read() if board.poll() is not None else ''}")
         threading.Thread(target=lambda: board.stderr.read(), daemon=True).start()
-        plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"slcan:{sock}", "--scene", "default",
+        plant = subprocess.Popen([args.dynweigh, "plant", "--can", f"slcan:{sock}", "--scene", args.scene,
                                   "--seed", args.seed, "--wait", "20", "--timeout", "20"],
                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         lines = queue.Queue()
@@ -129,7 +136,7 @@ with tempfile.TemporaryDirectory() as tmp:
                 fail("the valve markers do not follow the 50/600 schedule")
             print("records=1000")
         else:
-            out = answer("dose 5000")
+            out = answer(f"dose {args.first_g}")
             results = [l for l in out if l.startswith("RESULT ")]
             if out[-1] != "OK" or len(results) != 1:
                 fail(f"dose answered {out}")
@@ -156,11 +163,11 @@ with tempfile.TemporaryDirectory() as tmp:
         fail("lockstep over SLCAN broken: late answers or malformed frames")
     if args.mode == "dose":
         true_g = float(kv["final_static_kg"]) * 1000.0
-        targets_g = 5000 + SMALL_DOSES * SMALL_DOSE_G
+        targets_g = args.first_g + SMALL_DOSES * SMALL_DOSE_G
         print(f"cortexm_true_fill_g={true_g:.1f} cortexm_true_error_g={true_g - targets_g:.1f}")
         if args.fw:
-            host = subprocess.run([args.fw, "--seed", args.seed], input="dose 5000\n", capture_output=True,
-                                  text=True, timeout=30)
+            host = subprocess.run([args.fw, "--seed", args.seed, "--plant", f"sim:{args.scene}"],
+                                  input=f"dose {args.first_g}\n", capture_output=True, text=True, timeout=30)
             host_result = next((l for l in host.stdout.splitlines() if l.startswith("RESULT ")), "")
             print(f"host_build: {host_result}")
         if abs(true_g - targets_g) > 100:

@@ -81,6 +81,8 @@ class DosePlanner {
   // `class_x` the OIML class asked for; `half_flow_ratio` what half open lets through of full;
   // `jiffy_s` the control period.
   void configure(float class_x, float half_flow_ratio, float jiffy_s);
+  // The class's warning limit (TL1) at `target_g`.
+  float class_limit_g(float target_g) const;
   void start();
   // Each jiffy the stream is measured: the landing rate, for its fluctuation.
   void observe_rate(float rate_g_per_jiffy);

@@ -63,8 +63,9 @@ class DosingCycle {
   // dose settles and is certified again as it was the first time (step() returns `certified`; the
   // result's final and time then include the pulse, its cutoff stays the first close's). The pulse
   // is sized from the flow the dose measured (top_up_pulse_law.hpp), at most `fixed_pulse_s`; a
-  // strategy that measured no flow pulses `fixed_pulse_s` full open. `last`: no pulse may follow.
-  void start_top_up(float deficit_g, float fixed_pulse_s, bool last = false);
+  // strategy that measured no flow pulses `fixed_pulse_s` full open. `pulses_after`: how many more
+  // the dose may give (0: this is the last).
+  void start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after = 255);
   // After the top-up's certified result: what the pulse delivered; false if the scale saw (about)
   // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
   bool learn_top_up(float delivered_g);

@@ -18,6 +18,8 @@ class ToleranceFollowUp {
   void begin();
   void hold() { phase_ = Phase::holding; }
   bool may_top_up() const { return topups_ < topup_max_ && !stopped_; }
+  // How many more pulses this dose may give.
+  std::uint8_t pulses_left() const { return may_top_up() ? std::uint8_t(topup_max_ - topups_) : 0; }
   void start_top_up();
   // A pulse the scale saw nothing of: no more pulses this dose.
   void stop_topping_up() { stopped_ = true; }

@@ -27,7 +27,11 @@
 // not short by the jitter as the others are: every fill that needs it would end short by that, a bias
 // no later pulse corrects. A law that pulses like this one have taught holds back little; one taught
 // by a pulse or two of another length (a new material's first dose) holds back more. A law only the
-// dose taught aims at the whole deficit.
+// dose taught aims at the whole deficit. The pulse before the last, while no more than one pulse
+// has taught the law, aims where the fill is likeliest to end within its class (pulse_pair_risk.hpp):
+// a new material's first dose spends its pulses there, and the sure aim would leave its last pulse
+// a large share of the deficit, and that pulse's scatter with it. Once pulses have taught the law, its
+// spread is mostly the jitter allowed for, which only bounds a valve's from below: the sure aim holds.
 // The pulses open the valve half, unless even the longest pulse allowed could not bring the deficit
 // at half open's flow. A pulse's mass is off by the valve's timing jitter times the flow where the
 // gate turns back (the jitter moves both the turn and the closing ramp that follows it). A
@@ -53,6 +57,15 @@ class TopUpPulseLaw {
   static constexpr float kLaterAim = 0.9f;    // at most, once the law has seen one
   static constexpr float kLeastAim = 0.6f;    // at least, however unsure the law
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
+  // The pulse before the last aims for the class while the law was taught by fewer pulses than this.
+  static constexpr std::uint8_t kRiskAimPulses = 2;
+  static constexpr int kRiskAimSteps = 4;      // aims tried, from kLeastAim to the whole deficit
+  // What may follow a pulse: how many more pulses the dose allows, and the limit of the class its fill
+  // must end within (0: none given, the sure aim).
+  struct Outlook {
+    std::uint8_t pulses_after = 255;
+    float limit_g = 0.0f;
+  };
 
   // A dose's full-open flow (grams per second), the share of it half open lets through, the
   // valve's stroke (closed to full open), the longest pulse allowed, and how the flow grows along the
@@ -68,6 +81,7 @@ class TopUpPulseLaw {
   // The pulse for `deficit_g` still missing; the first chooses full or half open for them all.
   // `last`: the dose gives no pulse after this one.
   Pulse size(float deficit_g, bool last = false);
+  Pulse size(float deficit_g, const Outlook& outlook);
   // What the pulse just given delivered, as the scale certified it.
   void learn(const Pulse& pulse, float delivered_g);
   // The law of full-open (`half` false) or half-open pulses.
@@ -102,7 +116,9 @@ class TopUpPulseLaw {
   float seconds_for(const Law& law, float mass_g) const;
   float unsure_g(const Law& law, float seconds) const;
   float spread_g(const Law& law, float seconds) const;
-  float aim_g(const Law& law, float deficit_g, bool last) const;
+  float aim_g(const Law& law, float deficit_g, const Outlook& outlook) const;
+  float sure_aim_g(const Law& law, float deficit_g) const;
+  float risk_aim_g(const Law& law, float deficit_g, float limit_g) const;
   void choose(float deficit_g);
 
   Law full_;

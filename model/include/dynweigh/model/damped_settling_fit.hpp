@@ -13,6 +13,7 @@
 // from the five's covariance (taken kDirectErrorFactor times). The estimate with the smaller error
 // counts (docs/strategies.md, Dynamic weighing).
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -65,24 +66,16 @@ class DampedSettlingFit {
     if (count_ < kMinimumSamples) return e;
     // Relative to the newest sample: W is near it, so float keeps its resolution at full scale.
     const Scalar reference = at(count_ - 1);
-    Eigen::Matrix<Scalar, 3, 3> normal = Eigen::Matrix<Scalar, 3, 3>::Zero();
-    Eigen::Matrix<Scalar, 3, 1> rhs = Eigen::Matrix<Scalar, 3, 1>::Zero();
-    for (std::size_t n = 2; n < count_; ++n) {
-      const Eigen::Matrix<Scalar, 3, 1> row(at(n - 1) - reference, at(n - 2) - reference, Scalar(1));
-      const Scalar y = at(n) - reference;
-      normal.noalias() += row * row.transpose();
-      rhs.noalias() += row * y;
-    }
+    const PronySums sums = prony_sums(reference);
+    Eigen::Matrix<Scalar, 3, 3> normal;
+    normal << sums.xx11, sums.xx12, sums.x1, sums.xx12, sums.xx22, sums.x2, sums.x1, sums.x2, Scalar(count_ - 2);
+    const Eigen::Matrix<Scalar, 3, 1> rhs(sums.xy1, sums.xy2, sums.y);
     const Eigen::LDLT<Eigen::Matrix<Scalar, 3, 3>> solver(normal);
     if (solver.info() != Eigen::Success) return e;
     const Eigen::Matrix<Scalar, 3, 1> c = solver.solve(rhs);
     const Scalar loop_gain = Scalar(1) - c(0) - c(1);
     if (!(std::fabs(loop_gain) > Scalar(1e-4))) return e;  // no decay: W is not identifiable yet
-    Scalar residual_sum = 0;
-    for (std::size_t n = 2; n < count_; ++n) {
-      const Scalar r = at(n) - reference - c(0) * (at(n - 1) - reference) - c(1) * (at(n - 2) - reference) - c(2);
-      residual_sum += r * r;
-    }
+    const Scalar residual_sum = prony_residual_sum(reference, c(0), c(1), c(2));
     const Scalar dof = Scalar(count_ - 2) - Scalar(3);
     const Scalar variance = residual_sum / dof;
     const Scalar w = c(2) / loop_gain;
@@ -100,6 +93,64 @@ class DampedSettlingFit {
   }
 
  private:
+  // The Prony fit's normal equations: sums over n >= 2 of x1 = y[n-1], x2 = y[n-2] and y = y[n],
+  // each less the reference. Written out, not as Eigen's rank updates: this runs every jiffy of a
+  // settling over the whole window, and the Cortex-M's budget is per jiffy.
+  struct PronySums {
+    Scalar xx11 = 0, xx12 = 0, xx22 = 0, x1 = 0, x2 = 0, xy1 = 0, xy2 = 0, y = 0;
+  };
+  PronySums prony_sums(Scalar reference) const {
+    PronySums s;
+    Scalar older = 0, old = 0;
+    std::size_t n = 0;
+    for (const Run& run : runs()) {
+      for (std::size_t i = 0; i < run.size; ++i, ++n) {
+        const Scalar y = run.begin[i] - reference;
+        if (n >= 2) {
+          s.xx11 += old * old;
+          s.xx12 += old * older;
+          s.xx22 += older * older;
+          s.x1 += old;
+          s.x2 += older;
+          s.xy1 += old * y;
+          s.xy2 += older * y;
+          s.y += y;
+        }
+        older = old;
+        old = y;
+      }
+    }
+    return s;
+  }
+  Scalar prony_residual_sum(Scalar reference, Scalar c1, Scalar c2, Scalar d) const {
+    Scalar sum = 0, older = 0, old = 0;
+    std::size_t n = 0;
+    for (const Run& run : runs()) {
+      for (std::size_t i = 0; i < run.size; ++i, ++n) {
+        const Scalar y = run.begin[i] - reference;
+        if (n >= 2) {
+          const Scalar r = y - c1 * old - c2 * older - d;
+          sum += r * r;
+        }
+        older = old;
+        old = y;
+      }
+    }
+    return sum;
+  }
+
+  // The kept samples, oldest first, as the ring's two runs: each pass loops over them with its body
+  // written once, so that the compiler keeps the sums in registers (no index worked out per sample).
+  struct Run {
+    const Scalar* begin;
+    std::size_t size;
+  };
+  std::array<Run, 2> runs() const {
+    const std::size_t start = (head_ + Capacity - count_) % Capacity;
+    const std::size_t first = start + count_ <= Capacity ? count_ : Capacity - start;
+    return {Run{samples_ + start, first}, Run{samples_, count_ - first}};
+  }
+
   // The model's parameters (W, A, B, r, theta): W less the fit's reference, the phases' amplitudes
   // at the oldest sample.
   using Parameters = Eigen::Matrix<Scalar, 5, 1>;
@@ -161,14 +212,25 @@ class DampedSettlingFit {
     const Scalar r = std::sqrt(-c2);
     if (!(r < Scalar(1)) || !(r > kSlowestDecayPerSample)) return false;
     const Scalar theta = std::acos(std::fmax(Scalar(-1), std::fmin(Scalar(1), c1 / (Scalar(2) * r))));
-    Eigen::Matrix<Scalar, 3, 3> normal = Eigen::Matrix<Scalar, 3, 3>::Zero();
-    Eigen::Matrix<Scalar, 3, 1> rhs = Eigen::Matrix<Scalar, 3, 1>::Zero();
+    Scalar cc = 0, cs = 0, ss = 0, sum_c = 0, sum_s = 0, cy = 0, sy = 0, sum_y = 0;
     Oscillation wave{r, std::cos(theta), std::sin(theta)};
-    for (std::size_t n = 0; n < count_; ++n, wave.advance()) {
-      const Eigen::Matrix<Scalar, 3, 1> row(Scalar(1), wave.cosine, wave.sine);
-      normal.noalias() += row * row.transpose();
-      rhs.noalias() += row * (at(n) - reference);
+    for (const Run& run : runs()) {
+      for (std::size_t i = 0; i < run.size; ++i) {
+        const Scalar y = run.begin[i] - reference;
+        cc += wave.cosine * wave.cosine;
+        cs += wave.cosine * wave.sine;
+        ss += wave.sine * wave.sine;
+        sum_c += wave.cosine;
+        sum_s += wave.sine;
+        cy += wave.cosine * y;
+        sy += wave.sine * y;
+        sum_y += y;
+        wave.advance();
+      }
     }
+    Eigen::Matrix<Scalar, 3, 3> normal;
+    normal << Scalar(count_), sum_c, sum_s, sum_c, cc, cs, sum_s, cs, ss;
+    const Eigen::Matrix<Scalar, 3, 1> rhs(sum_y, cy, sy);
     const Eigen::LDLT<Eigen::Matrix<Scalar, 3, 3>> solver(normal);
     if (solver.info() != Eigen::Success) return false;
     const Eigen::Matrix<Scalar, 3, 1> phases = solver.solve(rhs);
@@ -203,25 +265,55 @@ class DampedSettlingFit {
     return Scalar(0);
   }
 
-  // J^T J and J^T e of the model at `p`, and the sum of squared residuals.
+  // J^T J and J^T e of the model at `p`, and the sum of squared residuals. J's rows are
+  // (1, c, s, d, q): c and s the decaying cosine and sine, d = n (A c + B s) / r and
+  // q = n (B c - A s) the derivatives in r and theta. Each entry of J^T J's upper triangle is a sum
+  // of its own, written out: this runs every jiffy of a settling over the whole window, and the
+  // Cortex-M's budget is per jiffy (a loop over the entries would keep them in memory).
   Scalar gauss_newton_system(Scalar reference, const Parameters& p, Eigen::Matrix<Scalar, 5, 5>& normal,
                              Eigen::Matrix<Scalar, 5, 1>& rhs) const {
-    normal.setZero();
-    rhs.setZero();
-    Scalar residual_sum = 0;
+    Scalar sc = 0, ss_ = 0, sd = 0, sq = 0;                  // row 0: the sums of c, s, d, q
+    Scalar cc = 0, cs = 0, cd = 0, cq = 0, s2 = 0, sdd = 0, sqq = 0, dd = 0, dq = 0, qq = 0;
+    Scalar e0 = 0, e1 = 0, e2 = 0, e3 = 0, e4 = 0, residual_sum = 0, n = 0;
     const Scalar per_decay = Scalar(1) / p(3);
+    const Scalar w = p(0), a = p(1), b = p(2);
     Oscillation wave{p(3), std::cos(p(4)), std::sin(p(4))};
-    for (std::size_t n = 0; n < count_; ++n, wave.advance()) {
-      const Scalar in_phase = p(1) * wave.cosine + p(2) * wave.sine;
-      const Scalar quadrature = p(2) * wave.cosine - p(1) * wave.sine;
-      const Scalar residual = at(n) - reference - p(0) - in_phase;
-      Eigen::Matrix<Scalar, 5, 1> row;
-      row << Scalar(1), wave.cosine, wave.sine, Scalar(n) * in_phase * per_decay, Scalar(n) * quadrature;
-      normal.template selfadjointView<Eigen::Upper>().rankUpdate(row);
-      rhs.noalias() += row * residual;
-      residual_sum += residual * residual;
+    for (const Run& run : runs()) {
+      for (std::size_t i = 0; i < run.size; ++i) {
+        const Scalar c = wave.cosine, s = wave.sine;
+        const Scalar in_phase = a * c + b * s;
+        const Scalar d = n * in_phase * per_decay, q = n * (b * c - a * s);
+        const Scalar e = run.begin[i] - reference - w - in_phase;
+        sc += c;
+        ss_ += s;
+        sd += d;
+        sq += q;
+        cc += c * c;
+        cs += c * s;
+        cd += c * d;
+        cq += c * q;
+        s2 += s * s;
+        sdd += s * d;
+        sqq += s * q;
+        dd += d * d;
+        dq += d * q;
+        qq += q * q;
+        e0 += e;
+        e1 += c * e;
+        e2 += s * e;
+        e3 += d * e;
+        e4 += q * e;
+        residual_sum += e * e;
+        n += Scalar(1);
+        wave.advance();
+      }
     }
-    normal.template triangularView<Eigen::StrictlyLower>() = normal.transpose();
+    normal << Scalar(count_), sc, ss_, sd, sq,  //
+        sc, cc, cs, cd, cq,                     //
+        ss_, cs, s2, sdd, sqq,                  //
+        sd, cd, sdd, dd, dq,                    //
+        sq, cq, sqq, dq, qq;
+    rhs << e0, e1, e2, e3, e4;
     return residual_sum;
   }
 
