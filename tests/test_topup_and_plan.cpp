@@ -386,6 +386,55 @@ TEST(TopUpPulseLaw, APulseShorterThanTheStrokeIsSizedFromTheGatesShape) {
   EXPECT_GT(std::fabs(delivered(proportional) - 20.0f), mean_limit_g);
 }
 
+// The same gate (300 ms to open, 150 ms to half), the law begun with the datasheet's 80 ms stroke
+// and taught by one long half-open pulse, which says little of the travel. The pulse for the last
+// 20 g, sized with the half travel the valve's feedback timed, brings them within X(1) at 1 kg and
+// is off by less than half as much as when sized with the datasheet's travel, which expects a
+// gate that opens almost four times as fast and brings a fraction of them. The same timing given again leaves what later
+// pulses taught of the travel alone; a timing of none, or of ten seconds, is no timing.
+TEST(TopUpPulseLaw, APulseIsSizedWithTheHalfTravelTheFeedbackTimed) {
+  constexpr float kPriorFlowGS = 4000.0f, kTrueShare = 0.7f, kStrokeS = 0.3f;
+  const model::BeverlooMaterial<float> sand{};
+  const model::GateFlowShape<float> gate = model::gate_flow_shape(sand, 9.81f, 0.06f);
+  const auto delivered = [&](const firmware::TopUpPulseLaw::Pulse& p) {
+    const float end = p.command == firmware::ValveCommand::half ? 0.5f : 1.0f, travel = end * kStrokeS;
+    const float reached = p.seconds < travel ? end * p.seconds / travel : end;
+    const float held = p.seconds > travel ? (p.seconds - travel) * gate.flow_at(end) : 0.0f;
+    return kTrueShare * kPriorFlowGS * (2.0f * kStrokeS * gate.integral_to(reached) + held);
+  };
+  const auto last_pulse = [&](float timed_half_s) {
+    firmware::TopUpPulseLaw law;
+    law.begin(kPriorFlowGS, gate.flow_at(0.5f), 0.08f, 2.0f, gate);
+    const firmware::TopUpPulseLaw::Pulse first = law.size(400.0f);
+    law.learn(first, delivered(first));
+    law.timed_travel(true, timed_half_s);
+    return law.size(20.0f, true);
+  };
+  const firmware::TopUpPulseLaw::Pulse timed = last_pulse(0.5f * kStrokeS);
+  const firmware::TopUpPulseLaw::Pulse datasheet = last_pulse(0.0f);
+  std::printf("20 g missing: timed travel %.0f ms pulse, gives %.1f g; datasheet's %.0f ms pulse, gives %.1f g\n",
+              1000.0 * double(timed.seconds), double(delivered(timed)), 1000.0 * double(datasheet.seconds),
+              double(delivered(datasheet)));
+  const float x1_g = model::oiml_r61_x1_limits(1000.0f).initial_verification_g;
+  EXPECT_NEAR(delivered(timed), 20.0f, x1_g);
+  EXPECT_GT(std::fabs(delivered(datasheet) - 20.0f), x1_g);
+  EXPECT_LT(std::fabs(delivered(timed) - 20.0f), std::fabs(delivered(datasheet) - 20.0f) / 2.0f);
+
+  firmware::TopUpPulseLaw law;
+  law.begin(kPriorFlowGS, gate.flow_at(0.5f), 0.08f, 2.0f, gate);
+  law.timed_travel(true, 0.12f);
+  EXPECT_FLOAT_EQ(law.travel_s(true), 0.12f);
+  firmware::TopUpPulseLaw::Pulse p = law.size(30.0f);
+  law.learn(p, 0.3f * delivered(p));
+  const float taught_s = law.travel_s(true);
+  ASSERT_NE(taught_s, 0.12f);
+  law.timed_travel(true, 0.12f);
+  EXPECT_FLOAT_EQ(law.travel_s(true), taught_s);
+  law.timed_travel(true, 0.0f);
+  law.timed_travel(true, 10.0f);
+  EXPECT_FLOAT_EQ(law.travel_s(true), taught_s);
+}
+
 // A 100 mm bore (Beverloo's sand: some 9 kg/s) behind a gate that takes 200 ms to open, 300 g
 // missing. Whichever way the valve opens, the jitter of its timing (5 ms here) moves where the gate
 // turns back and when it is shut again. Half open, the pulse holds the gate at half open's flow;

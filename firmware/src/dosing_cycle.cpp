@@ -222,12 +222,13 @@ void DosingCycle::keep_top_up_flow() {
 
 void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after) {
   if (!topping_up_ && sizes_top_ups()) {
-    top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_in_use_s_now(), kLongestSizedPulseS,
+    top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_timed_s(), kLongestSizedPulseS,
                       model_.gate_flow_shape());
     if (dose_open_s_ > 0.0f) top_up_law_.observe_dose(dose_open_s_, float(result_.final_g));
   }
   topping_up_ = true;
   if (sizes_top_ups()) {
+    if (half_travel_s_ > 0.0f) top_up_law_.timed_travel(true, half_travel_s_);
     pulse_ = top_up_law_.size(deficit_g, {pulses_after, planner_.class_limit_g(float(result_.target_g))});
   } else {
     pulse_ = TopUpPulseLaw::Pulse{ValveCommand::open, fixed_pulse_s, 0.0f};

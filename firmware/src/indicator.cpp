@@ -74,6 +74,7 @@ void Indicator::supervise(const Inputs& inputs) {
   const auto seen = timing.strokes(ValveTimingMonitor::closing) > 0 ? ValveTimingMonitor::closing
                                                                      : ValveTimingMonitor::opening;
   dosing_.measured_valve_travel(timing.mean_arrival_ms(seen) / 1000.0f, timing.strokes(seen));
+  dosing_.measured_half_travel(timing.mean_motion_ms(ValveTimingMonitor::to_half) / 1000.0f);
   dosing_.valve_could_deliver(supervisor_.dose_valve_could_deliver());
 }
 

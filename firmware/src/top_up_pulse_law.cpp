@@ -38,6 +38,7 @@ constexpr float kTravelHigh = 4.0f;
 constexpr float kTravelGain = 0.3f;
 constexpr float kTravelStepFactor = 2.0f;
 constexpr int kTravelBisections = 10;
+constexpr float kRelearnTravelFactor = 2.0f;
 
 float held(float value, float low, float high) { return value < low ? low : (value > high ? high : value); }
 
@@ -187,6 +188,25 @@ void TopUpPulseLaw::learn_travel(Law& law, float seconds, float delivered_g) {
   const float ratio = travel_explaining(law, seconds, delivered_g) / law.travel_s;
   const float step = std::pow(ratio, kTravelGain);
   law.travel_s *= step > kTravelStepFactor ? kTravelStepFactor : (step < 1.0f / kTravelStepFactor ? 1.0f / kTravelStepFactor : step);
+}
+
+// A timing the law has not taken yet (a dose's first pulse, whose begin() set the stroke's share as
+// the prior, or a stroke timed since) replaces its travel; between two, the pulses' masses refine it
+// (learn_travel), as they do a travel no feedback timed. What pulses taught of the flow and the loss
+// under a travel off by more than kRelearnTravelFactor is as unsure again as the prior: the valve's
+// first pulse, sized and taught with the datasheet's 80 ms where the gate took 300, made the law's
+// flow low, short pulses then agreed with it, and a long one overfilled.
+void TopUpPulseLaw::timed_travel(bool half, float travel_s) {
+  if (!(travel_s > 0.0f) || !(travel_s < kLongestTravelS)) return;
+  Law& l = law(half);
+  if (l.prior_travel_s == travel_s) return;
+  const float ratio = l.travel_s > 0.0f ? travel_s / l.travel_s : 1.0f;
+  if (l.pulses > 0 && (ratio > kRelearnTravelFactor || ratio < 1.0f / kRelearnTravelFactor)) {
+    const TwoParameterRls::State taught = l.rls.state();
+    l.rls.reset(taught.theta1, taught.theta2, kFlowSpread * l.prior_flow_g_s, kLossSpreadS * l.prior_flow_g_s);
+  }
+  l.prior_travel_s = travel_s;
+  l.travel_s = travel_s;
 }
 
 void TopUpPulseLaw::learn(const Pulse& pulse, float delivered_g) {

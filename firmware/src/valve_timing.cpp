@@ -8,7 +8,11 @@ bool is_end_position(ValvePosition p) { return p == ValvePosition::closed || p =
 void ValveTimingMonitor::forget() {
   tracking_ = false;
   timing_dead_ = false;
-  for (int d = 0; d < 2; ++d) next_[d] = count_[d] = dead_next_[d] = dead_count_[d] = 0;
+  for (int d = 0; d < kDirections; ++d) {
+    next_[d] = count_[d] = 0;
+    mean_motion_ms_[d] = 0.0f;
+  }
+  for (int d = 0; d < 2; ++d) dead_next_[d] = dead_count_[d] = 0;
 }
 
 void ValveTimingMonitor::start_stroke(ValveCommand previous, ValveCommand command, float command_delay_ms) {
@@ -16,6 +20,7 @@ void ValveTimingMonitor::start_stroke(ValveCommand previous, ValveCommand comman
   // half-way, takes less time and would teach a limit too tight. After a half command the valve is
   // at half or on its way there, whatever end position its feedback last showed (a module
   // with limit switches alone may show none at half): a close or an open from there is no full stroke.
+  // A stroke from closed to half is timed apart (`to_half`), and only where the feedback shows half.
   tracking_ = false;
   const bool from_end_position = previous != ValveCommand::half;
   if (from_end_position && command == ValveCommand::open && end_position_ == ValvePosition::closed) {
@@ -25,6 +30,10 @@ void ValveTimingMonitor::start_stroke(ValveCommand previous, ValveCommand comman
   } else if (from_end_position && command == ValveCommand::closed && end_position_ == ValvePosition::open) {
     from_ = ValvePosition::open;
     to_ = ValvePosition::closed;
+    tracking_ = true;
+  } else if (previous == ValveCommand::closed && command == ValveCommand::half && end_position_ == ValvePosition::closed) {
+    from_ = ValvePosition::closed;
+    to_ = ValvePosition::half;
     tracking_ = true;
   }
   delay_ms_ = command_delay_ms;
@@ -50,7 +59,7 @@ void ValveTimingMonitor::observe(ValveCommand command, float command_delay_ms, V
   if (leave_age_ == 0 && position != from_) leave_age_ = age_;
   if (position == to_) {
     // Within the jiffy of the command: feedback that echoes it, or a valve that was there already.
-    if (age_ > 1) remember(to_ == ValvePosition::open ? opening : closing);
+    if (age_ > 1) remember(to_ == ValvePosition::open ? opening : (to_ == ValvePosition::half ? to_half : closing));
     tracking_ = false;
   } else if (position != from_ && position != ValvePosition::moving) {
     tracking_ = false;  // somewhere else (half): not this stroke
@@ -102,6 +111,7 @@ void ValveTimingMonitor::remember(Direction d) {
   s.arrival_mean_ms = (float(age_) - 0.5f) * jiffy_ms_ - delay_ms_;
   next_[d] = (next_[d] + 1) % kMemory;
   if (count_[d] < kMemory) ++count_[d];
+  update_mean_motion(d);
 }
 
 float ValveTimingMonitor::slowest_leave_ms(Direction d) const {
@@ -125,6 +135,21 @@ float ValveTimingMonitor::mean_arrival_ms(Direction d) const {
   float sum = 0.0f;
   for (std::uint32_t i = 0; i < count_[d]; ++i) sum += strokes_[d][i].arrival_mean_ms;
   return sum / float(count_[d]);
+}
+
+// Worked out once a stroke ends, not each jiffy it is asked for: the valve's opening jiffy is the
+// Cortex-M's heaviest.
+void ValveTimingMonitor::update_mean_motion(Direction d) {
+  float sum = 0.0f;
+  std::uint32_t moving = 0;
+  for (std::uint32_t i = 0; i < count_[d]; ++i) {
+    const float motion_ms = strokes_[d][i].arrival_bound_ms - strokes_[d][i].leave_bound_ms;
+    if (motion_ms > 0.0f) {
+      sum += motion_ms;
+      ++moving;
+    }
+  }
+  mean_motion_ms_[d] = moving > 0 ? sum / float(moving) : 0.0f;
 }
 
 }  // namespace dynweigh::firmware

@@ -121,6 +121,9 @@ class DosingCycle {
   float model_stroke_s() const { return model_.stroke_in_use_s_now(); }
   // What the valve's feedback has shown of its timing; the model's next dose times its close with it.
   void measured_valve_travel(float mean_s, std::uint32_t strokes) { model_.measured_valve_travel(mean_s, strokes); }
+  // How long the valve's feedback showed it moving from closed to half (0: never timed); the top-up's
+  // half-open pulses are sized with it from the next pulse on.
+  void measured_half_travel(float motion_s) { half_travel_s_ = motion_s; }
   // Whether the valve was open long enough to deliver (the fault supervisor's judgement, each
   // jiffy): a dose closed before its valve opened is no `nothing_delivered`, only a poor fill.
   void valve_could_deliver(bool could) { valve_could_deliver_ = could; }
@@ -168,6 +171,7 @@ class DosingCycle {
   float start_weight_g_ = 0.0f;
   bool valve_could_deliver_ = true;
   float last_prediction_g_ = 0.0f;
+  float half_travel_s_ = 0.0f;
   std::uint32_t jiffies_ = 0;
   std::uint32_t settle_from_jiffy_ = 0;
   static constexpr std::uint32_t kAgreementJiffies = 5;

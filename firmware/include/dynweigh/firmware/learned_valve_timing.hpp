@@ -64,6 +64,9 @@ class BasicLearnedValveTiming {
   // At the open command: the timing of the dose that begins, from what has been learned so far.
   void start_dose();
   const DoseValveTiming<Scalar>& in_use() const { return in_use_; }
+  // The stroke the feedback's timing gives for a dead time of `dead_s` (the datasheet's, where it
+  // timed none or one within the deadband of it).
+  Scalar stroke_in_use_s(Scalar dead_s) const;
   // How the flow grows along the stroke (its value at half stroke is the half-open flow's share),
   // for pulses too short to open the gate fully.
   const model::GateFlowShape<Scalar>& gate_flow_shape() const { return gate_flow_shape_; }
@@ -71,7 +74,6 @@ class BasicLearnedValveTiming {
  private:
   void use(Scalar dead_s, Scalar stroke_s);
   Scalar dead_time_in_use_s() const;
-  Scalar stroke_in_use_s(Scalar dead_s) const;
 
   model::BeverlooMaterial<Scalar> material_{};
   Scalar bore_m_ = Scalar(0);

@@ -73,6 +73,9 @@ class BasicModelCutoff {
   // time in use, once it is clearly off the datasheet's.
   void measured_valve_travel(Scalar mean_s, std::uint32_t strokes) { valve_.measured_travel(mean_s, strokes); }
   Scalar stroke_in_use_s_now() const { return valve_.in_use().stroke_s; }
+  // The stroke as the feedback has timed it up to now, this dose's strokes included (the dose itself
+  // keeps the one in use at its start).
+  Scalar stroke_timed_s() const { return valve_.stroke_in_use_s(valve_.in_use().dead_s); }
   Scalar half_flow_ratio() const { return valve_.in_use().half_flow_ratio; }
   const model::GateFlowShape<Scalar>& gate_flow_shape() const { return valve_.gate_flow_shape(); }
 

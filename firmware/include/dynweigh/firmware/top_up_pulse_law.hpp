@@ -20,7 +20,12 @@
 // open). Each pulse that may not have opened fully also teaches the travel: once q and c have
 // learned from the pulse, the travel under which they would have predicted what it delivered,
 // taken a share of the way (within a quarter and four times the stroke in use: the datasheet's, or
-// the one the feedback timed).
+// the one the feedback timed). A valve whose feedback shows the half position has its half strokes
+// timed (valve_timing.hpp): from the pulse after the first that reached half, the half-open law
+// travels as the feedback showed, which no pulse's mass tells as well (a new material's first dose,
+// on a valve two or three times slower than its datasheet, sized its short last pulse for a gate
+// that opened far further than it did). Each dose's first pulse and each stroke timed since set it
+// afresh; between, the pulses' masses refine it as above.
 // A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit less half of what the law is still unsure of, but
@@ -84,6 +89,9 @@ class TopUpPulseLaw {
   Pulse size(float deficit_g, const Outlook& outlook);
   // What the pulse just given delivered, as the scale certified it.
   void learn(const Pulse& pulse, float delivered_g);
+  // The valve's feedback timed the gate's travel to the full (`half` false) or half position: the
+  // law's travel, and the bounds its pulses may teach within, unless the law took this timing already.
+  void timed_travel(bool half, float travel_s);
   // The law of full-open (`half` false) or half-open pulses.
   float flow_g_s(bool half) const { return law(half).rls.state().theta1; }
   float start_loss_g(bool half) const { return law(half).rls.state().theta2; }

@@ -16,6 +16,11 @@
 // close given while the valve was still opening): from the command to the feedback's first `moving`
 // after it stood still. It does not depend on where the stroke goes, and a dose on a fast plant may
 // close before the valve ever reached `open`.
+//
+// A valve whose feedback reports the half position also has its strokes from closed to half timed
+// (`to_half`): half the stroke after the dead time. A top-up pulse opens half, and its mass depends
+// on how fast the gate gets there; on a fast plant whose doses all close before the valve is open,
+// the pulses' own half strokes are the only strokes timed.
 #include <cstdint>
 
 #include "dynweigh/firmware/io.hpp"
@@ -38,7 +43,8 @@ class ValveTimingMonitor {
     timing_dead_ = false;
   }
 
-  enum Direction : std::uint8_t { opening = 0, closing = 1 };
+  // Dead times are timed for `opening` and `closing` only (any stroke from standstill).
+  enum Direction : std::uint8_t { opening = 0, closing = 1, to_half = 2 };
   std::uint32_t strokes(Direction d) const { return count_[d]; }
   // Over the remembered strokes of one direction, ms from the command's acting: the latest the
   // feedback left its end position, the latest it reported the new one, and the mean time to the new
@@ -46,6 +52,10 @@ class ValveTimingMonitor {
   float slowest_leave_ms(Direction d) const;
   float slowest_arrival_ms(Direction d) const;
   float mean_arrival_ms(Direction d) const;
+  // The mean time the feedback showed the valve moving (from leaving its position to reporting the
+  // new one): the stroke without the dead time. 0 before the first, or where the feedback never
+  // shows `moving` (limit switches alone).
+  float mean_motion_ms(Direction d) const { return mean_motion_ms_[d]; }
   // The dead times timed so far in one direction (any stroke from standstill that showed `moving`),
   // and the latest, ms from the command's acting (0 before the first).
   std::uint32_t dead_times(Direction d) const { return dead_count_[d]; }
@@ -59,13 +69,14 @@ class ValveTimingMonitor {
   };
   void start_stroke(ValveCommand previous, ValveCommand command, float command_delay_ms);
   void remember(Direction d);
+  void update_mean_motion(Direction d);
   void start_dead_time(ValveCommand command);
   void time_dead(ValvePosition position);
 
   float jiffy_ms_ = 10.0f;
   ValveCommand last_command_ = ValveCommand::closed;
   ValvePosition end_position_ = ValvePosition::closed;  // the last end position the feedback reported
-  bool tracking_ = false;  // a full stroke is under way
+  bool tracking_ = false;  // a full stroke (or one from closed to half) is under way
   ValvePosition from_ = ValvePosition::closed;
   ValvePosition to_ = ValvePosition::open;
   float delay_ms_ = 0.0f;
@@ -80,9 +91,11 @@ class ValveTimingMonitor {
   float dead_ms_[2][kMemory] = {};
   std::uint32_t dead_next_[2] = {};
   std::uint32_t dead_count_[2] = {};
-  Stroke strokes_[2][kMemory] = {};
-  std::uint32_t next_[2] = {};
-  std::uint32_t count_[2] = {};
+  static constexpr int kDirections = 3;
+  Stroke strokes_[kDirections][kMemory] = {};
+  std::uint32_t next_[kDirections] = {};
+  std::uint32_t count_[kDirections] = {};
+  float mean_motion_ms_[kDirections] = {};
 };
 
 }  // namespace dynweigh::firmware
