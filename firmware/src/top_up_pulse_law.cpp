@@ -247,7 +247,7 @@ float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, const Outlook& outlo
     return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
   }
   if (law.seen == 0) return kFirstAim * deficit_g;
-  if (outlook.pulses_after == 1 && law.pulses < kRiskAimPulses && outlook.limit_g > 0.0f) {
+  if (outlook.pulses_after == 1 && outlook.limit_g > 0.0f) {
     return risk_aim_g(law, deficit_g, outlook.limit_g);
   }
   return sure_aim_g(law, deficit_g);

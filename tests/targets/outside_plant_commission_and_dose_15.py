@@ -38,7 +38,8 @@ AGREEMENT_G = 3.0  # certified final against the truth: the calibration's few d,
 def rest_wait_bound_s(plant, load_kg):
     """The longest a dose may wait for rest with `load_kg` on the scale (see REST_DECAY_CONSTANTS)."""
     decay_s = 2.0 * (plant.config.platform_kg + load_kg) / plant.physics.damper
-    return STABLE_WINDOW_S + REST_DECAY_CONSTANTS * decay_s
+    # The valve opens on the jiffy grid: the jiffy in which rest is seen, not the instant.
+    return STABLE_WINDOW_S + REST_DECAY_CONSTANTS * decay_s + JIFFY_S
 
 
 def installation():

@@ -32,11 +32,10 @@
 // not short by the jitter as the others are: every fill that needs it would end short by that, a bias
 // no later pulse corrects. A law that pulses like this one have taught holds back little; one taught
 // by a pulse or two of another length (a new material's first dose) holds back more. A law only the
-// dose taught aims at the whole deficit. The pulse before the last, while no more than one pulse
-// has taught the law, aims where the fill is likeliest to end within its class (pulse_pair_risk.hpp):
-// a new material's first dose spends its pulses there, and the sure aim would leave its last pulse
-// a large share of the deficit, and that pulse's scatter with it. Once pulses have taught the law, its
-// spread is mostly the jitter allowed for, which only bounds a valve's from below: the sure aim holds.
+// dose taught aims at the whole deficit. The pulse before the last aims where the fill is likeliest
+// to end within its class (pulse_pair_risk.hpp): the sure aim would leave the last pulse a large
+// share of the deficit, and that pulse's scatter with it (a new material's first dose spends all its
+// pulses; a small pulse on a fast valve scatters by its jitter times the flow, whatever its size).
 // The pulses open the valve half, unless even the longest pulse allowed could not bring the deficit
 // at half open's flow. A pulse's mass is off by the valve's timing jitter times the flow where the
 // gate turns back (the jitter moves both the turn and the closing ramp that follows it). A
@@ -62,8 +61,6 @@ class TopUpPulseLaw {
   static constexpr float kLaterAim = 0.9f;    // at most, once the law has seen one
   static constexpr float kLeastAim = 0.6f;    // at least, however unsure the law
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
-  // The pulse before the last aims for the class while the law was taught by fewer pulses than this.
-  static constexpr std::uint8_t kRiskAimPulses = 2;
   static constexpr int kRiskAimSteps = 4;      // aims tried, from kLeastAim to the whole deficit
   // What may follow a pulse: how many more pulses the dose allows, and the limit of the class its fill
   // must end within (0: none given, the sure aim).
