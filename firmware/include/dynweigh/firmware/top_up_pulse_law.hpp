@@ -26,7 +26,8 @@
 // on a valve two or three times slower than its datasheet, sized its short last pulse for a gate
 // that opened far further than it did). Each dose's first pulse and each stroke timed since set it
 // afresh; between, the pulses' masses refine it as above.
-// A pulse aims short of the deficit: the first by a fixed share, the later ones by twice what the
+// A pulse aims short of the deficit: the first (and any of a law no pulse has taught, only the dose's
+// long opening) by a fixed share, the later ones by twice what the
 // law is still unsure of plus the valve's timing jitter (an overfill cannot be undone). The last
 // pulse a dose may give aims at the whole deficit less half of what the law is still unsure of, but
 // not short by the jitter as the others are: every fill that needs it would end short by that, a bias
