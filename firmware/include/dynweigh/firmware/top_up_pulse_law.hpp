@@ -33,7 +33,7 @@
 // not short by the jitter as the others are: every fill that needs it would end short by that, a bias
 // no later pulse corrects. A law that pulses like this one have taught holds back little; one taught
 // by a pulse or two of another length (a new material's first dose) holds back more. A law only the
-// dose taught aims at the whole deficit. The pulse before the last aims where the fill is likeliest
+// dose taught aims its last pulse at the whole deficit. The pulse before the last aims where the fill is likeliest
 // to end within its class (pulse_pair_risk.hpp): the sure aim would leave the last pulse a large
 // share of the deficit, and that pulse's scatter with it (a new material's first dose spends all its
 // pulses; a small pulse on a fast valve scatters by its jitter times the flow, whatever its size).
