@@ -27,6 +27,31 @@ TEST(ValveLetThrough, InstantValveLetsNothingThroughAndDeadTimeCountsFully) {
   EXPECT_LT(stroking, 0.04);  // Beverloo falls faster than the area: less than half the stroke
 }
 
+// The integral along the stroke is taken once; the dead time and the stroke time only scale it.
+// Against a fine midpoint rule: dead time at the starting stroke's flow, then the flow along a
+// linear close, in seconds of full flow, from the open gate and from half stroke.
+TEST(ValveLetThrough, TheOnceTakenIntegralMatchesAFineIntegrationAtAnyTiming) {
+  const BeverlooMaterial<double> gravel{0.58, 1.5, 0.004, 1500.0};
+  const double g = 9.81, bore_m = 0.06;
+  const double full = discharge_at_stroke_kg_s(gravel, g, bore_m, 1.0);
+  for (const double from : {1.0, 0.5}) {
+    const ClosingFlowIntegral<double> integral(gravel, g, bore_m, from);
+    double along = 0.0;  // integral of the flow's share over the stroke from closed to `from`
+    constexpr int kSteps = 20000;
+    for (int i = 0; i < kSteps; ++i) {
+      along += discharge_at_stroke_kg_s(gravel, g, bore_m, from * (i + 0.5) / kSteps) / full * from / kSteps;
+    }
+    const double at_start = discharge_at_stroke_kg_s(gravel, g, bore_m, from) / full;
+    for (const double dead_s : {0.0, 0.02, 0.08}) {
+      for (const double stroke_s : {0.04, 0.3}) {
+        EXPECT_NEAR(integral.seconds(dead_s, stroke_s), dead_s * at_start + stroke_s * along, 1e-5)
+            << "from " << from << " dead " << dead_s << " stroke " << stroke_s;
+        EXPECT_EQ(integral.seconds(dead_s, stroke_s), closing_flow_seconds(gravel, g, bore_m, dead_s, stroke_s, from));
+      }
+    }
+  }
+}
+
 // Coarse grains (6 mm of arching) through a 60 mm bore: no flow until the slit is wider than the
 // arches, then a flow that grows much faster than the stroke. The table holds Beverloo's flow at its
 // knots and its integral along the stroke to a fine midpoint rule's; the inverse finds the stroke.

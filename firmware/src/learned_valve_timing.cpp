@@ -4,7 +4,6 @@
 
 #include "dynweigh/model/bore_area.hpp"
 #include "dynweigh/model/gravity.hpp"
-#include "dynweigh/model/valve_let_through.hpp"
 
 namespace dynweigh::firmware {
 namespace {
@@ -21,12 +20,13 @@ template <typename Scalar>
 void BasicLearnedValveTiming<Scalar>::configure(const ValveDatasheet<Scalar>& datasheet,
                                                 const model::BeverlooMaterial<Scalar>& material, Scalar bore_m) {
   const Scalar g = model::kGravity<Scalar>;
-  material_ = material;
-  bore_m_ = bore_m;
   datasheet_ = datasheet;
   measured_dead_s_ = datasheet.dead_s;
   dead_time_doses_ = 0;
   gate_flow_shape_ = model::gate_flow_shape(material, g, bore_m);
+  full_closing_ = model::ClosingFlowIntegral<Scalar>(material, g, bore_m);
+  half_closing_ = model::ClosingFlowIntegral<Scalar>(material, g, bore_m, Scalar(0.5));
+  full_rate_kg_s_ = model::discharge_at_stroke_kg_s(material, g, bore_m, Scalar(1));
   measured_travel_strokes_ = 0;
   travel_timed_ = false;
   use(datasheet.dead_s, datasheet.stroke_s);
@@ -38,20 +38,17 @@ void BasicLearnedValveTiming<Scalar>::start_dose() {
   use(dead_s, stroke_in_use_s(dead_s));
 }
 
+// Called at every dose's open command: the integrals over the stroke were taken by configure().
 template <typename Scalar>
 void BasicLearnedValveTiming<Scalar>::use(Scalar dead_s, Scalar stroke_s) {
-  const Scalar g = model::kGravity<Scalar>;
   DoseValveTiming<Scalar>& t = in_use_;
   t.dead_s = dead_s;
   t.stroke_s = stroke_s;
   t.half_flow_ratio = gate_flow_shape_.flow_at(Scalar(0.5));
-  t.full_closing_flow_s = model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s);
-  const Scalar full_rate = model::discharge_at_stroke_kg_s(material_, g, bore_m_, Scalar(1));
-  const Scalar half_rate = full_rate * t.half_flow_ratio;
+  t.full_closing_flow_s = full_closing_.seconds(dead_s, stroke_s);
+  const Scalar half_rate = full_rate_kg_s_ * t.half_flow_ratio;
   t.half_closing_flow_s =
-      half_rate > Scalar(0)
-          ? model::closing_flow_seconds(material_, g, bore_m_, dead_s, stroke_s, Scalar(0.5)) * full_rate / half_rate
-          : dead_s;
+      half_rate > Scalar(0) ? half_closing_.seconds(dead_s, stroke_s) * full_rate_kg_s_ / half_rate : dead_s;
   t.half_transition_s = dead_s + Scalar(0.25) * stroke_s;
   t.full_closing_duration_s = dead_s + stroke_s;
   t.half_closing_duration_s = dead_s + Scalar(0.5) * stroke_s;

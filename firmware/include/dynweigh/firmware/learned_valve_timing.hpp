@@ -9,6 +9,7 @@
 #include "dynweigh/firmware/valve_timing_learning.hpp"
 #include "dynweigh/model/beverloo.hpp"
 #include "dynweigh/model/gate_flow_shape.hpp"
+#include "dynweigh/model/valve_let_through.hpp"
 
 namespace dynweigh::firmware {
 
@@ -75,9 +76,10 @@ class BasicLearnedValveTiming {
   void use(Scalar dead_s, Scalar stroke_s);
   Scalar dead_time_in_use_s() const;
 
-  model::BeverlooMaterial<Scalar> material_{};
-  Scalar bore_m_ = Scalar(0);
   model::GateFlowShape<Scalar> gate_flow_shape_ = model::GateFlowShape<Scalar>::proportional();
+  model::ClosingFlowIntegral<Scalar> full_closing_{};  // from the open gate
+  model::ClosingFlowIntegral<Scalar> half_closing_{};  // from half stroke
+  Scalar full_rate_kg_s_ = Scalar(0);
   ValveDatasheet<Scalar> datasheet_{};
   Scalar measured_dead_s_ = Scalar(0);  // running mean over the last doses' first impacts
   std::uint32_t dead_time_doses_ = 0;
