@@ -246,6 +246,7 @@ float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, const Outlook& outlo
     const float aim = deficit_g - kLastAimSigmas * unsure_g(law, seconds_for(law, deficit_g));
     return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
   }
+  if (seconds_for(law, kLaterAim * deficit_g) > kLongPulseS) return kLeastAim * deficit_g;
   // A law no pulse taught (only the dose's long opening, whose start-up loss is no short pulse's):
   // the fixed share, whatever it thinks it knows.
   if (law.pulses == 0) return kFirstAim * deficit_g;

@@ -62,6 +62,10 @@ class TopUpPulseLaw {
   static constexpr float kLaterAim = 0.9f;    // at most, once the law has seen one
   static constexpr float kLeastAim = 0.6f;    // at least, however unsure the law
   static constexpr float kJitterS = 0.005f;   // the valve's timing jitter a pulse must allow for
+  // A pulse this long is no short pulse: the flow's start-up (up to half a second) has settled in
+  // it, and a law taught on short pulses, whose flow was still starting, expects too little of it.
+  // Unless it is the dose's last, it aims at kLeastAim of the deficit.
+  static constexpr float kLongPulseS = 0.4f;
   static constexpr int kRiskAimSteps = 4;      // aims tried, from kLeastAim to the whole deficit
   // What may follow a pulse: how many more pulses the dose allows, and the limit of the class its fill
   // must end within (0: none given, the sure aim).
