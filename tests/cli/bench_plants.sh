@@ -29,6 +29,8 @@ refused --plants random:2 --strategies oracle --quiet
 refused --plants random:2 --strategies sideways --quiet
 refused --plants random:2 --targets x --quiet
 refused --fills 3 --scenes default --targets 500 --seeds 2 --quiet
+refused --plants random:2 --ceiling --strategies model --quiet
+refused --ceiling --scenes default --targets 500 --seeds 2 --quiet
 "$bin/dynweigh" bench --help | grep -q -- '--plants' || fail "bench --help does not mention --plants"
 
 run=(--plants random:2@3 --fills 2 --targets 500,2000 --strategies model,twostage --quiet)
@@ -74,5 +76,17 @@ got=$(tail -1 out.txt |
 timeout 300 "$bin/dynweigh" bench "${run[@]}" --jobs 1 >again.txt 2>/dev/null
 cmp -s out.txt again.txt || fail "a second run (one thread) printed other bytes"
 cat out.txt
+
+# --ceiling: a line per cell with two chances, and a summary whose shares are their means.
+timeout 300 "$bin/dynweigh" bench --plants random:2@3 --ceiling --targets 500 --quiet --jobs 2 >ceiling.txt 2>err.txt ||
+  fail "the ceiling run failed: $(cat err.txt)"
+ceiling_cells=$(grep -cE '^ceiling plant=random-[12] target_g=500 first=[01]\.[0-9]{3} steady=[01]\.[0-9]{3}$' ceiling.txt)
+[ "$ceiling_cells" -ge 1 ] && [ "$((ceiling_cells + 1))" -eq "$(grep -c '' ceiling.txt)" ] ||
+  fail "the ceiling run printed other lines: $(cat ceiling.txt)"
+means=$(awk '/^ceiling /{ split($4, f, "="); split($5, s, "="); n++; a += f[2]; b += s[2] }
+  END { printf "cells=%d first_x1_share=%.3f steady_x1_share=%.3f", n, a / n, b / n }' ceiling.txt)
+tail -1 ceiling.txt | grep -qE "^summary ceiling plants=2 seed=3 fills=6 pulses=3 $means$" ||
+  fail "the ceiling summary is not the cells' means ($means): $(tail -1 ceiling.txt)"
+cat ceiling.txt
 
 [ "$failures" -eq 0 ] && echo "bench --plants: all checks passed" || exit 1

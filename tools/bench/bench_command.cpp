@@ -18,6 +18,7 @@
 #include "grid_runner.hpp"
 #include "output_file.hpp"
 #include "plant_family_bench.hpp"
+#include "plant_family_ceiling.hpp"
 #include "progress_bar.hpp"
 #include "series_row.hpp"
 #include "step_benchmark.hpp"
@@ -186,6 +187,8 @@ int run_plants(const CLI::App& app, const std::string& plants, const std::string
   for (const char* option : {"--scenes", "--seeds", "--sweep", "--csv", "--png", "--journal", "--resume"}) {
     if (app.count(option)) throw std::runtime_error(std::string(option) + " is not for --plants");
   }
+  const bool ceiling = app.count("--ceiling") > 0;
+  if (ceiling && app.count("--strategies")) throw std::runtime_error("--strategies is not for --ceiling (no strategy runs)");
   PlantFamilyOptions options;
   options.plants = parse_plant_family_spec(plants);
   options.strategies = split(app.count("--strategies") ? strategies : "model,learn,preact,twostage");
@@ -198,7 +201,8 @@ int run_plants(const CLI::App& app, const std::string& plants, const std::string
   options.fills = fills;
   options.threads = jobs;
   options.progress = !quiet;
-  run_plant_family_bench(options, session);
+  if (ceiling) run_plant_family_ceiling(options, session);
+  else run_plant_family_bench(options, session);
   return 0;
 }
 
@@ -242,6 +246,8 @@ int run_bench_command(int argc, char** argv) {
                                      "(targets 500,1000,2000,5000,10000,15000 g unless --targets; those the plant holds)");
   app.add_option("--fills", fills, "--plants: fills per target, back to back")->capture_default_str()
       ->check(CLI::Range(2u, 1000u));
+  app.add_flag("--ceiling", "--plants: instead of the strategies, the chance that a controller knowing each plant "
+                            "exactly lands a fill within X(1) with at most 3 pulses (docs/plant-family.md)");
   app.add_flag("--quiet", quiet, "no progress bar");
   app.add_flag("--step", "Google Benchmark of Indicator::step (other options go to Google Benchmark)");
   app.add_flag("--sim", "the plant's realtime factor and error per scene");
@@ -256,6 +262,7 @@ int run_bench_command(int argc, char** argv) {
   try {
     if (app.count("--plants")) return run_plants(app, plants, strategies, targets, fills, jobs, quiet, session);
     if (app.count("--fills")) throw std::runtime_error("--fills is for --plants (a scene's series: --seeds)");
+    if (app.count("--ceiling")) throw std::runtime_error("--ceiling is for --plants");
     if (session.writer()) check_outputs(csv, png, journal, created);
     std::vector<Scenario> scenarios;
     for (const auto& name : scene_list.empty() ? default_scenarios() : split(scene_list)) {
