@@ -289,7 +289,7 @@ TEST(TopUpPulseLaw, LearnsFromEachPulseAndNeverOvershoots) {
 }
 
 // A stream that starts at 40 % of its flow and settles over 0.4 s (a slow start-up, as the plant
-// family draws). Pulses of 60 to 250 ms teach the law, all while the flow was still starting; then a
+// family draws). Twelve pulses of 80 to 260 ms teach the law, all while the flow was still starting; then a
 // blind close leaves 1.5 kg, with two pulses to follow. A pulse long enough to bring that runs on a
 // settled flow the law never saw and brings more than it expects: aimed at 90 %, it overfills by
 // more than X(1) allows at 5 kg. Aimed at kLeastAim, it leaves the rest to the pulses after it.
