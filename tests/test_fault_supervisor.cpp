@@ -332,6 +332,55 @@ TEST(FaultSupervisor, ACloseGivenAsTheValveStartsToOpenKeepsItsDeadTime) {
   }
 }
 
+// A valve of 78 ms dead time that jitters by 11 ms rms, after a restart: the first opening came 2.5
+// sigmas short (`moving` at the 5th jiffy, 50 ms), the close after it takes 100 ms to leave `open`.
+// Judged by that one opening (50 + 40 ms), the close is stuck open; the material's doses kept the
+// slowest dead time they showed (95 ms), and with it the close is healthy. The same valve stuck
+// open is still caught 40 ms after that, and a kept dead time longer than the valve takes to shut
+// counts as that time only.
+TEST(FaultSupervisor, AfterARestartTheDeadTimeTheMaterialKeptSetsTheLeaveLimit) {
+  for (float kept_ms : {0.0f, 95.0f}) {
+    SCOPED_TRACE(kept_ms);
+    FaultSupervisor s = configured();
+    s.expect_dead_time_ms(kept_ms);
+    EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 4, 20, 40), Fault::none);
+    const Fault close = stroke(s, ValveCommand::closed, ValvePosition::open, ValvePosition::closed, 10, 20, 60);
+    EXPECT_EQ(close, kept_ms > 0.0f ? Fault::none : Fault::valve_stuck_open);
+  }
+  const auto jiffies_to_stuck_open = [](float kept_ms) {
+    FaultSupervisor s = configured();
+    s.expect_dead_time_ms(kept_ms);
+    stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 4, 20, 40);
+    FaultSupervisor::Observation o;
+    o.command_in_force = ValveCommand::closed;
+    o.position = ValvePosition::open;
+    int jiffies = 1;
+    while (s.watch(o) == Fault::none && jiffies < 1000) ++jiffies;
+    return jiffies;
+  };
+  EXPECT_EQ(jiffies_to_stuck_open(0.0f), 9);    // 50 + 40 ms
+  EXPECT_EQ(jiffies_to_stuck_open(95.0f), 14);  // 95 + 40 ms
+  // The opening arrived at the 25th jiffy: no dead time is longer than 250 ms.
+  EXPECT_EQ(jiffies_to_stuck_open(900.0f), 29);
+}
+
+// What a dose leaves the material to keep: the slower of the kept dead time and the ones the
+// feedback showed since the restart, until it has timed 8 strokes one way; then the slowest of those,
+// so that a valve serviced to run faster is followed.
+TEST(FaultSupervisor, TheDeadTimeToKeepFollowsTheFeedbackOnceEightStrokesAreTimed) {
+  FaultSupervisor s = configured();
+  EXPECT_EQ(s.dead_time_to_keep_ms(), 0.0f);
+  s.expect_dead_time_ms(95.0f);
+  EXPECT_EQ(s.dead_time_to_keep_ms(), 95.0f);
+  EXPECT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 4, 20, 40), Fault::none);
+  EXPECT_EQ(s.dead_time_to_keep_ms(), 95.0f);
+  for (int i = 0; i < 8; ++i) {
+    ASSERT_EQ(stroke(s, ValveCommand::closed, ValvePosition::open, ValvePosition::closed, 5, 20, 40), Fault::none);
+    ASSERT_EQ(stroke(s, ValveCommand::open, ValvePosition::closed, ValvePosition::open, 5, 20, 40), Fault::none);
+  }
+  EXPECT_FLOAT_EQ(s.dead_time_to_keep_ms(), 60.0f);  // `moving` at the 6th jiffy
+}
+
 // Parameters of a wide bore over a long fall: the stream's own landing steps the reading by more
 // than 5 % of Max between two samples, which is no glitch; a glitch beyond that still faults.
 TEST(FaultSupervisor, AStepAsLargeAsTheInstallationsOwnLandingIsNoSampleJump) {

@@ -115,6 +115,11 @@ TEST(MaterialLearning, TheValvesMeasuredTimingSurvivesARestart) {
   ASSERT_EQ(learned[1].rfind("VALVE material=0 ", 0), 0u) << learned[1];
   EXPECT_NEAR(std::stod(field(learned[1], "dead_ms")), 70.0, 12.0) << learned[1];
   EXPECT_EQ(field(learned[1], "dead_doses"), "2") << learned[1];
+  // The slowest dead time the feedback showed: the valve's 70 ms, its jitter and a jiffy's reading.
+  const double slowest_dead_ms = std::stod(field(learned[1], "slowest_dead_ms"));
+  EXPECT_GE(slowest_dead_ms, 70.0) << learned[1];
+  EXPECT_LE(slowest_dead_ms, 90.0) << learned[1];
+  EXPECT_NEAR(settings.materials.at(0).valve_slowest_dead_ms, slowest_dead_ms, 0.05);
   ASSERT_EQ(lines_of(c.run({"dose 5000"})).size(), 2u);
   const auto estimates = lines_of(c.run({"estimates"}));
   ASSERT_GE(estimates.size(), 1u);
@@ -325,8 +330,10 @@ TEST(MaterialLearningRecord, SurvivesAPowerCutPerMaterial) {
   settings.materials.define(3);
   settings.materials.select(3, settings.parameters);
   settings.materials.keep_learned(some_learning());
+  settings.materials.keep_valve_slowest_dead_ms(84.36f);
   const PersistentSettings restored = after_power_cut(settings);
   const firmware::MaterialLearning& kept = restored.materials.at(3).learned;
+  EXPECT_FLOAT_EQ(restored.materials.at(3).valve_slowest_dead_ms, 84.4f);  // to 0.1 ms
   EXPECT_EQ(kept.open_time_law.fills, 3u);
   EXPECT_FLOAT_EQ(kept.open_time_law.theta1, 4200.0f);
   EXPECT_FLOAT_EQ(kept.open_time_law.theta2, -310.0f);
@@ -507,6 +514,33 @@ TEST(MaterialLearningRecord, ADoseHistoryNoDoseCanLeaveIsDropped) {
   const firmware::MaterialLearning zero_open = load_with({{4, 0}, {5, 0}});  // the first dose's open time
   EXPECT_EQ(zero_open.doses.size(), 0u);
   EXPECT_EQ(zero_open.open_time_law.fills, 3u);
+}
+
+// The slowest dead time the valve's feedback showed sits in the two bytes behind the dose history's
+// count and slot, which records before it left zero: none. One no valve shows (6.5 s) is none too,
+// and the history beside it stays.
+TEST(MaterialLearningRecord, TheSlowestDeadTimeNoValveShowsIsDroppedAndAnOlderRecordHasNone) {
+  PersistentSettings settings;
+  settings.materials.keep_learned(some_learning());
+  settings.materials.keep_valve_slowest_dead_ms(95.0f);
+  std::vector<std::uint8_t> record(firmware::kSettingsRecordSize);
+  firmware::encode_settings(settings, record.data(), record.size());
+  const std::size_t dead_time = firmware::kSettingsRecordSize - firmware::kMaterialTableBytes + 4 +
+                                firmware::kMaterialEntryBytesV9 + 2;
+  EXPECT_EQ(record[dead_time] | (record[dead_time + 1] << 8), 950);
+  std::vector<std::uint8_t> bad = record;
+  bad[dead_time] = bad[dead_time + 1] = 0xFF;
+  const std::uint32_t crc = firmware::crc32(bad.data() + 16, bad.size() - 16) ^ firmware::crc32(bad.data(), 12);
+  for (int i = 0; i < 4; ++i) bad[12 + std::size_t(i)] = std::uint8_t(crc >> (8 * i));
+  PersistentSettings loaded;
+  ASSERT_TRUE(firmware::decode_settings(bad.data(), bad.size(), loaded));
+  EXPECT_EQ(loaded.materials.at(0).valve_slowest_dead_ms, 0.0f);
+  EXPECT_EQ(loaded.materials.at(0).learned.doses.size(), 3u);
+  const std::vector<std::uint8_t> old = older_record(settings, 9);
+  PersistentSettings from_old;
+  ASSERT_TRUE(firmware::decode_settings(old.data(), old.size(), from_old));
+  EXPECT_EQ(from_old.materials.at(0).valve_slowest_dead_ms, 0.0f);
+  EXPECT_EQ(from_old.materials.at(0).learned.open_time_law.fills, 3u);
 }
 
 // A version-9 record (before the last doses were kept) loads with the rest of what was learned and no

@@ -62,13 +62,7 @@ void Indicator::start_batch_ingredient() {
   const BatchIngredient& ingredient = batch_.current();
   select_material(ingredient.material);
   use_valve(ingredient.material);
-  dosing_.restore_baselines(settings_.baselines);
-  dosing_.restore_material(settings_.materials.at(ingredient.material).learned,
-                           settings_.materials.at(ingredient.material).pulses);
-  dosing_.start(ingredient.grams, batch_strategy_, &settings_.learning);
-  dose_command_pending_ = true;
-  recorder_.start();
-  recording_source_ = RecordingSource{true, ++doses_started_, ingredient.grams, batch_strategy_};
+  start_dose(ingredient.material, ingredient.grams, batch_strategy_);
 }
 
 void Indicator::select_material(std::size_t n) {

@@ -26,13 +26,19 @@ void ConsoleCommands::dose(Indicator& indicator, const Arguments& args) {
   if (indicator.scale_.filtered_gross_g(indicator.settings_.calibration) + float(target) > p.get(ParameterId::capacity_g)) {
     return console.error(2, "target exceeds the scale's capacity");
   }
-  indicator.dosing_.restore_baselines(indicator.settings_.baselines);
-  const MaterialTable& materials = indicator.settings_.materials;
-  indicator.dosing_.restore_material(materials.at(materials.selected()).learned, materials.at(materials.selected()).pulses);
-  indicator.dosing_.start(std::int32_t(target), strategy, &indicator.settings_.learning);
-  indicator.dose_command_pending_ = true;
-  indicator.recorder_.start();
-  indicator.recording_source_ = Indicator::RecordingSource{true, ++indicator.doses_started_, std::int32_t(target), strategy};
+  indicator.start_dose(indicator.settings_.materials.selected(), std::int32_t(target), strategy);
+}
+
+void Indicator::start_dose(std::size_t material, std::int32_t target_g, DosingStrategy strategy) {
+  const Material& entry = settings_.materials.at(material);
+  dosing_.restore_baselines(settings_.baselines);
+  dosing_.restore_material(entry.learned, entry.pulses);
+  supervisor_.expect_dead_time_ms(entry.valve_slowest_dead_ms);
+  dose_valve_watched_ = true;
+  dosing_.start(target_g, strategy, &settings_.learning);
+  dose_command_pending_ = true;
+  recorder_.start();
+  recording_source_ = RecordingSource{true, ++doses_started_, target_g, strategy};
 }
 
 void ConsoleCommands::valve(Indicator& indicator, const Arguments& args) {
@@ -101,7 +107,8 @@ void write_learned(Console& console, std::size_t material, const MaterialLearnin
 }
 
 // What the selected material's doses measured of the valve (kept with it across restarts).
-void write_valve_timing(Console& console, std::size_t material, const ValveTimingLearning& valve) {
+void write_valve_timing(Console& console, std::size_t material, const Material& kept) {
+  const ValveTimingLearning& valve = kept.learned.valve;
   console.write("VALVE material=");
   console.write_int(std::int64_t(material));
   write_estimate(console, "dead_ms", valve.dead_doses > 0, 1000.0f * valve.dead_s, 1);
@@ -110,6 +117,7 @@ void write_valve_timing(Console& console, std::size_t material, const ValveTimin
   write_estimate(console, "travel_ms", valve.travel_strokes > 0, 1000.0f * valve.travel_s, 1);
   console.write(" travel_strokes=");
   console.write_int(valve.travel_strokes);
+  write_estimate(console, "slowest_dead_ms", kept.valve_slowest_dead_ms > 0.0f, kept.valve_slowest_dead_ms, 1);
   console.put('\n');
 }
 
@@ -164,7 +172,7 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
     console.put('\n');
   }
   write_learned(console, materials.selected(), learned);
-  write_valve_timing(console, materials.selected(), learned.valve);
+  write_valve_timing(console, materials.selected(), materials.at(materials.selected()));
   write_pulse_laws(console, materials.selected(), materials.at(materials.selected()).pulses);
   if (model_dosed) {
     const PlanChoice plan = indicator.dosing_.plan();

@@ -168,6 +168,14 @@ float FaultSupervisor::valve_shut_ms() const {
   return std::fmax(configured_shut_ms_, measured);
 }
 
+float FaultSupervisor::dead_time_to_keep_ms() const {
+  using D = ValveTimingMonitor::Direction;
+  const float seen_ms = std::fmax(timing_.slowest_dead_ms(D::opening), timing_.slowest_dead_ms(D::closing));
+  const bool memory_full = timing_.dead_times(D::opening) >= ValveTimingMonitor::kMemory ||
+                           timing_.dead_times(D::closing) >= ValveTimingMonitor::kMemory;
+  return memory_full ? seen_ms : std::fmax(seen_ms, learned_dead_ms_);
+}
+
 // How long the command just given may take: to leave the end position, to reach the new one.
 void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
   using D = ValveTimingMonitor::Direction;
@@ -195,7 +203,13 @@ void FaultSupervisor::set_valve_limits(ValveCommand command, float delay_ms) {
   // A dead time the feedback has shown on any stroke from standstill (closed to half, a close given
   // before the valve was open) is this valve's, whatever the datasheet says: the slowest either way
   // (one actuator, one supply), so that one fast stroke one way does not set the next one's limit.
-  const float slowest_dead_ms = std::fmax(timing_.slowest_dead_ms(own), timing_.slowest_dead_ms(other));
+  // The slowest the material's doses showed before a restart counts as seen, no longer than a
+  // healthy valve takes to shut: after a restart the supervisor has timed one opening at most, and a
+  // valve whose dead time jitters by 15 % can show it 2.5 sigmas short (50 ms of a 78 ms valve), less
+  // than the close that follows takes to leave `open`, 40 ms margin and all.
+  const float kept_dead_ms = std::fmin(learned_dead_ms_, valve_shut_ms());
+  const float slowest_dead_ms =
+      std::fmax(std::fmax(timing_.slowest_dead_ms(own), timing_.slowest_dead_ms(other)), kept_dead_ms);
   if (slowest_dead_ms > 0.0f) {
     leave_ms = slowest_dead_ms + kValveLeaveMarginMs;
     arrival_ms = std::fmax(arrival_ms, leave_ms + kValveArrivalMarginMs);

@@ -36,9 +36,21 @@ void Indicator::keep_top_up_learning() {
   lessons_unsaved_ = true;
 }
 
+// What the valve's feedback showed of its dead time while the dose ran (its close and its pulses,
+// whatever the strategy) stays with the material, once, when the dose ends.
+void Indicator::keep_valve_dead_time() {
+  if (!dose_valve_watched_) return;
+  dose_valve_watched_ = false;
+  const float dead_ms = supervisor_.dead_time_to_keep_ms();
+  if (dead_ms == settings_.materials.at(settings_.materials.selected()).valve_slowest_dead_ms) return;
+  settings_.materials.keep_valve_slowest_dead_ms(dead_ms);
+  lessons_unsaved_ = true;
+}
+
 // One save per dose: a record written after every pulse would wear an EEPROM up to four times as
 // fast. A power loss before it costs the dose's lessons, never the record before them.
 void Indicator::save_lessons() {
+  keep_valve_dead_time();
   if (!lessons_unsaved_) return;
   lessons_unsaved_ = false;
   settings_changed_ = true;

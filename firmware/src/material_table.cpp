@@ -83,6 +83,7 @@ void MaterialTable::forget_learned() {
   for (Material& m : materials_) {
     m.learned = MaterialLearning{};
     m.pulses = TopUpPulseLearning{};
+    m.valve_slowest_dead_ms = 0.0f;
   }
 }
 

@@ -187,6 +187,24 @@ DoseHistory get_dose_history(const std::uint8_t* p) {
   return doses;
 }
 
+// The slowest dead time the valve's feedback showed, in 0.1 ms, where the dose history's count and
+// slot leave two bytes that records before it left zero: none seen. One no valve shows (a second or
+// more) is none.
+constexpr float kDeadTimeUnitMs = 0.1f;
+constexpr float kLongestDeadTimeMs = 1000.0f;
+
+void put_slowest_dead_time(std::uint8_t* p, float dead_ms) {
+  const bool known = dead_ms > 0.0f && dead_ms < kLongestDeadTimeMs;
+  const auto units = std::uint16_t(known ? std::lround(dead_ms / kDeadTimeUnitMs) : 0);
+  p[0] = std::uint8_t(units);
+  p[1] = std::uint8_t(units >> 8);
+}
+
+float get_slowest_dead_time(const std::uint8_t* p) {
+  const float dead_ms = float(std::uint16_t(p[0] | (p[1] << 8))) * kDeadTimeUnitMs;
+  return dead_ms < kLongestDeadTimeMs ? dead_ms : 0.0f;
+}
+
 void put_materials(std::uint8_t* p, const MaterialTable& table) {
   p[0] = std::uint8_t(table.selected());
   for (std::size_t n = 0; n < MaterialTable::kMaterials; ++n) {
@@ -202,6 +220,7 @@ void put_materials(std::uint8_t* p, const MaterialTable& table) {
     put_f32(e + kMaterialEntryBytesV8, m.learned.law_longest_open_s);
     put_valve_timing(e + kMaterialEntryBytesV8 + 4, m.learned.valve);
     put_dose_history(e + kMaterialEntryBytesV9, m.learned.doses);
+    put_slowest_dead_time(e + kMaterialEntryBytesV9 + 2, m.valve_slowest_dead_ms);
   }
 }
 
@@ -233,7 +252,10 @@ MaterialTable get_materials(const std::uint8_t* p, const Parameters& parameters,
       m.learned.law_longest_open_s = get_f32(e + kMaterialEntryBytesV8);
       m.learned.valve = get_valve_timing(e + kMaterialEntryBytesV8 + 4);
     }
-    if (materials >= MaterialsInRecord::doses) m.learned.doses = get_dose_history(e + kMaterialEntryBytesV9);
+    if (materials >= MaterialsInRecord::doses) {
+      m.learned.doses = get_dose_history(e + kMaterialEntryBytesV9);
+      m.valve_slowest_dead_ms = get_slowest_dead_time(e + kMaterialEntryBytesV9 + 2);
+    }
     if (MaterialTable::valid(m)) table.restore(n, m);
   }
   const std::size_t selected = p[0] < MaterialTable::kMaterials && table.at(p[0]).defined ? p[0] : 0;

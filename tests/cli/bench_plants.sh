@@ -89,4 +89,18 @@ tail -1 ceiling.txt | grep -qE "^summary ceiling plants=2 seed=3 fills=6 pulses=
   fail "the ceiling summary is not the cells' means ($means): $(tail -1 ceiling.txt)"
 cat ceiling.txt
 
+# Three plants of families no change was tuned on whose valves (about 78 ms of dead time, 11 ms of
+# jitter) had a close faulted `valve_stuck_open`: the bench starts every fill from a power-up, and the
+# one opening timed since came out 2.5 sigmas short. The dead time the material kept now sets the
+# limit (docs/console.md, Faults).
+for case in "183@11 500,1000 random-183" "123@13 500,1000 random-123" "58@17 500,1000,2000,5000,10000 random-58"; do
+  read -r family targets plant <<<"$case"
+  timeout 300 "$bin/dynweigh" bench --plants "random:$family" --targets "$targets" --strategies model --quiet \
+    --jobs 2 >restart.txt 2>/dev/null || fail "the run of random:$family failed"
+  n_fills=$(grep -c "^strategy=model plant=$plant " restart.txt)
+  n_clean=$(grep -c "^strategy=model plant=$plant .* failed=0 failure=-$" restart.txt)
+  [ "$n_fills" -ge 2 ] && [ "$n_fills" -eq "$n_clean" ] ||
+    fail "random:$family, $plant: $((n_fills - n_clean)) of $n_fills cells with a failed fill: $(grep "plant=$plant " restart.txt)"
+done
+
 [ "$failures" -eq 0 ] && echo "bench --plants: all checks passed" || exit 1

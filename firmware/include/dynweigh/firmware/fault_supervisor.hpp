@@ -30,10 +30,11 @@
 //   open, feedback that echoes the command) the datasheet's: its dead time + kValveLeaveMarginMs to
 //   leave, and the travel limit on its dead time plus stroke. A dead time the feedback showed on
 //   any stroke from standstill (closed to half, an opening closed before it was open) replaces the
-//   leave limit: the slowest seen + kValveLeaveMarginMs. Opening, a valve still reporting
-//   closed once the stream had time to land (the slower of the configured and the measured timing,
-//   the fall, a second) while the weight did not rise, or stuck mid-stroke past the arrival limit:
-//   `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as missing
+//   leave limit: the slowest seen + kValveLeaveMarginMs; so does the slowest one the material's
+//   doses showed before a restart (kept in the settings: expect_dead_time_ms). Opening, a valve
+//   still reporting closed once the stream had time to land (the slower of the configured and the
+//   measured timing, the fall, a second) while the weight did not rise, or stuck mid-stroke past the
+//   arrival limit: `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as missing
 //   feedback (open-loop replays), not a fault. A valve that closed and then reports moving with no
 //   command is stuck open after the travel limit.
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
@@ -126,6 +127,15 @@ class FaultSupervisor {
   // Another valve takes over (a batch's next ingredient): the timing the feedback showed is the last
   // one's. The watch in force (the last close's) keeps its limits; the next command sets new ones.
   void another_valve() { timing_.forget(); }
+  // Before a dose: the dead time the material's earlier doses measured of this valve (kept in the
+  // settings), ms; 0 for none. It counts as a dead time seen: a restart forgets the strokes timed
+  // since the power-up, not what the material kept (see set_valve_limits).
+  void expect_dead_time_ms(float dead_ms) { learned_dead_ms_ = dead_ms > 0.0f && dead_ms < 1000.0f ? dead_ms : 0.0f; }
+  // After a dose: the dead time the material should keep. The slowest the feedback showed since the
+  // power-up once it has timed a full memory of strokes one way (it follows the valve as it ages or
+  // is serviced); until then the slower of that and the one kept (a few strokes say little of the
+  // valve's slowest). 0: none.
+  float dead_time_to_keep_ms() const;
 
   // Whether the running dose's valve was open long enough to deliver: if not, a dose that closed
   // before its valve opened delivered nothing through no fault of the plant (no `no_flow`).
@@ -169,6 +179,7 @@ class FaultSupervisor {
   float jiffy_ms_ = 10.0f;
   float configured_dead_ms_ = 30.0f;   // the datasheet's
   float configured_shut_ms_ = 110.0f;  // the datasheet's dead time and stroke
+  float learned_dead_ms_ = 0.0f;       // the material's kept dead time: expect_dead_time_ms()
   float fall_ms_ = 495.0f;
   std::uint32_t valve_start_jiffies_ = 43;   // for the command in force: leave its end position by
   std::uint32_t valve_travel_jiffies_ = 43;  // ... and reach the new one by

@@ -131,7 +131,11 @@ class Indicator {
   void conclude_top_up();
   void start_top_up();
   void keep_top_up_learning();
+  void keep_valve_dead_time();
   void save_lessons();
+  // A dose of `material`, by the console's `dose` or a batch's ingredient: what the material's
+  // earlier doses taught restored, to the dosing cycle and to the valve's supervision.
+  void start_dose(std::size_t material, std::int32_t target_g, DosingStrategy strategy);
   void judge_result();
   void report_result();
   void report_hold();
@@ -154,6 +158,7 @@ class Indicator {
   // What a dose's fills and pulses taught, in the settings but not yet saved: saved once, when the
   // dose ends (its result reported or held, a fault, an abort), not after every pulse.
   bool lessons_unsaved_ = false;
+  bool dose_valve_watched_ = false;  // a dose began: its valve's dead time is kept when it ends
 
   // The parts.
   Console console_;

@@ -22,6 +22,9 @@ struct Material {
   float class_x = 0.0f;  // X(x), the `class` parameter's range
   MaterialLearning learned{};
   TopUpPulseLearning pulses{};  // what its top-up pulses taught
+  // The slowest dead time the valve's feedback showed on its doses, ms (0: none yet): the fault
+  // supervisor's leave limit after a restart (fault_supervisor.hpp, expect_dead_time_ms).
+  float valve_slowest_dead_ms = 0.0f;
 };
 
 class MaterialTable {
@@ -54,6 +57,8 @@ class MaterialTable {
   void keep_learned(const MaterialLearning& learned) { materials_[selected_].learned = learned; }
   // What the selected material's top-up pulses taught.
   void keep_pulses(const TopUpPulseLearning& pulses) { materials_[selected_].pulses = pulses; }
+  // The slowest dead time the valve's feedback showed on the selected material's doses.
+  void keep_valve_slowest_dead_ms(float dead_ms) { materials_[selected_].valve_slowest_dead_ms = dead_ms; }
   // `learn reset`: every material's fills are forgotten.
   void forget_learned();
 

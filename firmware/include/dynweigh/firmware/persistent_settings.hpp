@@ -49,8 +49,9 @@ inline constexpr std::size_t kBaselineLearningBytes = 2 * kRlsStateBytes + 8 + k
 // open-time law), the prior flow and the travel (f32 each), the pulses u8, 3 bytes pad; from version
 // 9 on, the longest open time the open-time law was taught at f32, and the valve's timing its doses
 // measured: dead time f32, travel f32, dead-time doses u16, strokes u16; from version 10 on, its
-// last doses that ran full open (dose_history.hpp): count u8, next u8, 2 bytes pad, then 8 doses of
-// open time (0.1 ms) u16 and final (g) u16.
+// last doses that ran full open (dose_history.hpp): count u8, next u8, the slowest dead time the
+// valve's feedback showed on its doses (0.1 ms) u16 (0: none; a record before this firmware has
+// zeros there), then 8 doses of open time (0.1 ms) u16 and final (g) u16.
 inline constexpr std::size_t kMaterialEntryBytesV6 = 4 + Material::kNameBytes + 4 + 4;
 inline constexpr std::size_t kMaterialLearningBytes = kRlsStateBytes + 8;
 inline constexpr std::size_t kMaterialEntryBytesV7 = kMaterialEntryBytesV6 + kMaterialLearningBytes;
