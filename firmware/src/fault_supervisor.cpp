@@ -349,15 +349,21 @@ Fault FaultSupervisor::watch_flow(const Observation& o) {
   return Fault::none;
 }
 
-bool FaultSupervisor::watch_early_leak(float filtered_g, float rise_g) {
+bool FaultSupervisor::watch_early_leak(float mean_g, float filtered_g, float rise_g) {
   if (command_age_ <= early_leak_jiffies_) return false;
   const std::uint32_t into = command_age_ - early_leak_jiffies_ - 1;
   const std::uint32_t window = into / early_leak_window_jiffies_;
   if (window > 1) return false;
-  if (into == 0) early_leak_sums_g_[0] = early_leak_sums_g_[1] = 0.0f;
-  early_leak_sums_g_[window] += filtered_g;
+  if (into == 0) {
+    early_leak_sums_g_[0] = early_leak_sums_g_[1] = 0.0f;
+    early_leak_low_g_ = early_leak_high_g_ = filtered_g;
+  }
+  early_leak_sums_g_[window] += mean_g;
+  early_leak_low_g_ = std::fmin(early_leak_low_g_, filtered_g);
+  early_leak_high_g_ = std::fmax(early_leak_high_g_, filtered_g);
   if (into + 1 != 2 * early_leak_window_jiffies_) return false;
-  return (early_leak_sums_g_[1] - early_leak_sums_g_[0]) / float(early_leak_window_jiffies_) > rise_g;
+  const float risen_g = (early_leak_sums_g_[1] - early_leak_sums_g_[0]) / float(early_leak_window_jiffies_);
+  return risen_g > rise_g && risen_g > kEarlyLeakShareOfRange * (early_leak_high_g_ - early_leak_low_g_);
 }
 
 Fault FaultSupervisor::watch_after_close(const Observation& o) {
@@ -371,7 +377,7 @@ Fault FaultSupervisor::watch_after_close(const Observation& o) {
   const float weight_g = settled_weight_.mean();
   const float rise_g = std::fmax(kFlowAfterCloseRiseStableBands * stable_band_g_,
                                  kFlowAfterCloseRiseFractionOfCapacity * capacity_g_);
-  if (watch_early_leak(weight_g, rise_g)) return Fault::flow_after_close;
+  if (watch_early_leak(weight_g, o.filtered_g, rise_g)) return Fault::flow_after_close;
   if (command_age_ == rest_jiffies_) {
     const std::uint32_t period = ring_period_jiffies(o.filtered_g);
     const std::uint32_t whole = period > 0 ? PeriodMean::kCapacity / period : 0;

@@ -48,8 +48,9 @@
 // - `flow_after_close`: after a dose's close, once dead time, stroke, the stream's fall time and a
 //   margin have passed, the filtered weight still rises by more than kFlowAfterCloseRise within 2 s;
 //   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
-//   before by kFlowAfterCloseRise, before a stuck valve can run the silo empty while the long margin
-//   passes. Both watch the filtered weight averaged over the platform's ringing: a loaded platform
+//   before by kFlowAfterCloseRise and by a share of the range the reading covered over both (a
+//   ringing swings more than it rises), before a stuck valve can run the silo empty while the long
+//   margin passes. Both watch the filtered weight averaged over the platform's ringing: a loaded platform
 //   rings slowly and long, and through the filter alone its swing can exceed the rise. The early one
 //   over one period (0.5 s at least: its mean must not still hold the landing); the later one, from
 //   the margin on, over as many periods as fill the mean's buffer, compared from when that is full:
@@ -85,6 +86,12 @@ class FaultSupervisor {
   static constexpr float kFlowAfterCloseWindowMs = 2000.0f;
   static constexpr float kEarlyLeakMarginMs = 400.0f;  // the 2 Hz filter's lag has decayed to ~4 %
   static constexpr float kEarlyLeakWindowMs = 250.0f;
+  // A leak rises through both windows: the second's mean above the first's by half the range the
+  // filtered weight covered there (a steady flow), less what ringing adds to the range. A ringing the
+  // mean over the predicted period did not cancel (a soft platform left at its default
+  // `platform_hz`) swings the range far more than the two means apart; the early check then leaves
+  // the rise to the later one.
+  static constexpr float kEarlyLeakShareOfRange = 0.35f;
   static constexpr float kFlowAfterCloseRiseFractionOfCapacity = 0.002f;  // 100 g on 50 kg; settling rings +-30 g
   static constexpr float kFlowAfterCloseRiseStableBands = 50.0f;
   // The after-close checks average the weight over at least this long, whatever `platform_hz` says:
@@ -169,7 +176,7 @@ class FaultSupervisor {
   void set_valve_limits(ValveCommand command, float delay_ms);
   float valve_shut_ms() const;
   Fault watch_flow(const Observation& o);
-  bool watch_early_leak(float filtered_g, float rise_g);
+  bool watch_early_leak(float mean_g, float filtered_g, float rise_g);
   Fault watch_after_close(const Observation& o);
 
   // Limits.
@@ -236,7 +243,9 @@ class FaultSupervisor {
   PeriodMean settled_weight_;
   float after_close_reference_g_ = 0.0f;
   std::uint32_t late_window_jiffies_ = 1;  // the later check's mean, whole predicted periods
-  float early_leak_sums_g_[2] = {};  // the filtered weight summed over the two windows
+  float early_leak_sums_g_[2] = {};  // the period's mean summed over the two windows
+  float early_leak_low_g_ = 0.0f;    // the filtered weight's lowest and highest there
+  float early_leak_high_g_ = 0.0f;
 };
 
 }  // namespace dynweigh::firmware
