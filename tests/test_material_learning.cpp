@@ -295,6 +295,7 @@ TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   fills(scene, settings, 2000, 1);
   const firmware::MaterialLearning& learned = settings.materials.at(0).learned;
   EXPECT_EQ(learned.open_time_law.fills, 1u);
+  EXPECT_GT(settings.materials.at(0).valve_slowest_dead_ms, 0.0f);
   EXPECT_TRUE(settings.materials.at(1).learned.empty());
   ConsoleSession c(scene, 1, settings);
   // After a restart no dose has been measured, but what the material learned is told.
@@ -304,6 +305,7 @@ TEST(MaterialLearning, KeptPerMaterialAndForgottenByLearnReset) {
   EXPECT_NE(estimates.front().find(" law_fills=1 "), std::string::npos) << estimates.front();
   EXPECT_EQ(c.run({"learn reset"}), "OK\n");
   EXPECT_TRUE(c.session().indicator().settings().materials.at(0).learned.empty());
+  EXPECT_EQ(c.session().indicator().settings().materials.at(0).valve_slowest_dead_ms, 0.0f);
 }
 
 }  // namespace
