@@ -40,6 +40,23 @@ TEST(DoseEstimates, BeforeAnyModelDoseThereIsNothingToTell) {
   EXPECT_EQ(c.run({"estimates now"}), "ERR 2 usage: estimates\n");
 }
 
+// A baseline's dose teaches the model nothing, but its valve's feedback showed the dead time the
+// material keeps (the supervision's leave limit after a restart): `estimates` tells that much.
+TEST(DoseEstimates, AfterABaselinesDoseTheValvesSlowestDeadTimeIsTold) {
+  ConsoleSession c;
+  c.idle(100);
+  ASSERT_NE(c.run({"dose 3000 preact"}).find("RESULT"), std::string::npos);
+  const auto lines = lines_of(c.run({"estimates"}));
+  ASSERT_EQ(lines.size(), 4u);  // LEARNED, VALVE, PULSES, OK
+  EXPECT_EQ(lines[0].rfind("LEARNED material=0 law_flow_kg_s=none ", 0), 0u) << lines[0];
+  ASSERT_EQ(lines[1].rfind("VALVE material=0 ", 0), 0u) << lines[1];
+  // The default scene's valve: 30 ms with 2 ms of jitter, read on the jiffy's grid.
+  const double slowest_dead_ms = std::stod(field(lines[1], "slowest_dead_ms"));
+  EXPECT_GE(slowest_dead_ms, 25.0) << lines[1];
+  EXPECT_LE(slowest_dead_ms, 45.0) << lines[1];
+  EXPECT_EQ(lines.back(), "OK");
+}
+
 // the default scene's valve (docs/scenes.md): 30 ms dead time with 2 ms jitter. Over seeds the measured dead time centres on
 // it (~2 ms early: the first grains leave with some speed), the flow on the plant's, the impact
 // speed on sqrt(v0^2 + 2 g h) (4.9 m/s for 1.2 m) - ~7 % high: the flow's start-up (alpha rising

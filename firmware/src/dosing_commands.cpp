@@ -156,7 +156,9 @@ void ConsoleCommands::estimates(Indicator& indicator, const Arguments& args) {
   const DoseResult& last = indicator.dosing_.result();
   const bool model_dosed = last.target_g > 0 && (last.strategy == DosingStrategy::model || last.strategy == DosingStrategy::learn);
   // A close before the first impact measured nothing, but its plan tells why it closed where it did.
-  if (!measured && !model_dosed && learned.empty()) return console.error(2, "no model dose measured yet");
+  // A dose of any strategy shows the valve's dead time: the material has learned that much.
+  const bool kept = !learned.empty() || materials.at(materials.selected()).valve_slowest_dead_ms > 0.0f;
+  if (!measured && !model_dosed && !kept) return console.error(2, "no model dose measured yet");
   if (measured || model_dosed) {
     const auto& s = e.signature;
     console.write("ESTIMATES");
