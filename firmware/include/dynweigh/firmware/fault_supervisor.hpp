@@ -34,9 +34,9 @@
 //   doses showed before a restart (kept in the settings: expect_dead_time_ms). Opening, a valve
 //   still reporting closed once the stream had time to land (the slower of the configured and the
 //   measured timing, the fall, a second) while the weight did not rise, or stuck mid-stroke past the
-//   arrival limit: `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as missing
-//   feedback (open-loop replays), not a fault. A valve that closed and then reports moving with no
-//   command is stuck open after the travel limit.
+//   arrival limit: `valve_stuck_closed`. Feedback reading closed while the weight rises is taken as
+//   missing feedback (open-loop replays), not a fault. A valve that closed and then reports moving
+//   with no command is stuck open after the travel limit.
 // - `no_flow`: a dose's valve open and the filtered weight not rising by kNoFlowRise within 2 s
 //   (at the start or later: a silo run empty). dose_valve_could_deliver() tells the dosing cycle
 //   whether a dose that certified next to nothing had its valve open at all (feedback at open or
@@ -50,12 +50,12 @@
 //   and a fast leak sooner: after a short margin, the mean over 250 ms above the mean over the 250 ms
 //   before by kFlowAfterCloseRise and by a share of the range the reading covered over both (a
 //   ringing swings more than it rises), before a stuck valve can run the silo empty while the long
-//   margin passes. Both watch the filtered weight averaged over the platform's ringing: a loaded platform
-//   rings slowly and long, and through the filter alone its swing can exceed the rise. The early one
-//   over one period (0.5 s at least: its mean must not still hold the landing); the later one, from
-//   the margin on, over as many periods as fill the mean's buffer, compared from when that is full:
-//   a platform left at the default `platform_hz` may ring at 2 to 3 Hz, and one period's mean of the
-//   wrong length keeps a fifth of the swing.
+//   margin passes. Both watch the filtered weight averaged over the platform's ringing: a loaded
+//   platform rings slowly and long, and through the filter alone its swing can exceed the rise. The
+//   early one over one period (0.5 s at least: its mean must not still hold the landing); the later
+//   one, from the margin on, over as many periods as fill the mean's buffer, compared from when that
+//   is full: a platform left at the default `platform_hz` may ring at 2 to 3 Hz, and one period's
+//   mean of the wrong length keeps a fifth of the swing.
 #include <cstdint>
 
 #include "dynweigh/firmware/fault.hpp"
