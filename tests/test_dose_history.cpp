@@ -1,6 +1,6 @@
 // The kept doses and their curve (dose_history.hpp): a power law recovered from doses on it, the
-// doses near the open time asked for weighing most, the exponent held within [1, 4], and what does
-// not fit the compact record left out or refused.
+// doses near the open time asked for weighing most, the exponent held within [1, 4], the cube through
+// a single dose, and what does not fit the compact record left out or refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,12 +52,20 @@ TEST(DoseHistory, TheExponentStaysWithinOneAndFour) {
   EXPECT_FLOAT_EQ(steep.near(0.12f).k, 4.0f);
 }
 
-// One dose tells no curve; doses all at one open time tell its fill, not its slope (taken as 2).
-TEST(DoseHistory, TwoDosesAtLeastAndASlopeOnlyWhereTheyDiffer) {
+// No dose tells no curve. One tells its fill, not its slope: beyond it the fill is taken to grow as
+// the cube of the open time, as it does while the gate is still opening (twice the open time, eight
+// times the fill), not as the line through it. Doses all at one open time tell their fill, not their
+// slope (taken as 2).
+TEST(DoseHistory, OneDoseGivesTheCubeThroughItAndASlopeOnlyWhereTheDosesDiffer) {
   DoseHistory h;
   EXPECT_FALSE(h.near(0.1f).valid);
   h.add(0.1f, 100.0f);
-  EXPECT_FALSE(h.near(0.1f).valid);
+  const DoseHistory::PowerLaw one = h.near(0.2f);
+  ASSERT_TRUE(one.valid);
+  EXPECT_FLOAT_EQ(one.k, 3.0f);
+  EXPECT_NEAR(one.fill_g(0.1f), 100.0f, 0.01f);
+  EXPECT_NEAR(one.fill_g(0.2f), 800.0f, 0.1f);
+  EXPECT_NEAR(one.growth_g_per_s(0.1f), 3000.0f, 0.5f);
   h.add(0.1f, 120.0f);
   const DoseHistory::PowerLaw law = h.near(0.2f);
   ASSERT_TRUE(law.valid);

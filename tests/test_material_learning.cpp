@@ -732,6 +732,23 @@ TEST(MaterialLearning, TheKeptDosesCurveStopsTheLinesOverdose) {
   for (double e : larger) EXPECT_LE(e, 10.0 * x1_limit_g(1000.0));
 }
 
+// Three plants of the family of seed 101 (sim/plant_family.hpp), never tuned on: 3.2 to 6.3 kg/s
+// behind gates of 160 to 200 ms, where a 500 g fill closes with the gate part open. The first fill,
+// on the prior, closes after about 100 ms with 130 to 170 g and is topped up. The second is timed by
+// the law that one close taught: its line, carried to about twice the open time, predicted too
+// little, and the second fills came out 110, 118 and 163 g over. The curve through the one kept dose
+// (dose_history.hpp) grows as the cube of the open time: the second close ends near or short of the
+// target, and a top-up finishes it.
+TEST(MaterialLearning, TheSecondBlindFillIsTimedByTheCubeThroughTheFirst) {
+  for (std::uint32_t index : {45u, 79u, 170u}) {
+    const sim::FamilyPlant plant = sim::draw_family_plant(101, index);
+    PersistentSettings settings = family_commissioned(plant);
+    const std::vector<double> errors = fills(plant.scene, settings, 500, 2);
+    std::printf("plant %u of @101, 500 g: %+.1f then %+.1f g\n", index + 1, errors[0], errors[1]);
+    EXPECT_LE(errors[1], 3.0 * x1_limit_g(500.0)) << "plant " << index + 1;
+  }
+}
+
 // The first 500 g of a new material through a 100 mm bore (8.7 kg/s by Beverloo) behind a gate that
 // takes 300 ms to open, its datasheet stroke set true, the top-up switched off: the close comes before
 // the stream can be weighed, on the prior, with the gate a small part open. The prior aims 2 sigmas of

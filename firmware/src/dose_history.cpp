@@ -9,6 +9,10 @@ constexpr float kLargestUnits = 65535.0f;
 constexpr float kLeastK = 1.0f;
 constexpr float kMostK = 4.0f;
 constexpr float kPriorK = 2.0f;  // doses all at one open time tell no slope: a gate opening halfway
+// One dose tells no slope either, and beyond it the line through it is what overdoses: the curve
+// through it grows as a gate still opening lets the fill grow (docs/plant-family.md, The second
+// blind close).
+constexpr float kOneDoseK = 3.0f;
 constexpr float kLeastWeight = 1e-3f;
 }  // namespace
 
@@ -39,10 +43,19 @@ bool DoseHistory::restore(const Entry (&entries)[kDoses], std::uint8_t count, st
   return true;
 }
 
+DoseHistory::PowerLaw DoseHistory::through_one_dose(const Entry& dose) {
+  PowerLaw law;
+  law.k = kOneDoseK;
+  law.log_a = std::log(float(dose.final_g)) - kOneDoseK * std::log(float(dose.open_100us) * kSecondsPerUnit);
+  law.valid = std::isfinite(law.log_a);
+  return law;
+}
+
 // Weighted least squares of ln(fill) on ln(t), the weights a Gaussian in ln(t) about `open_s`.
 DoseHistory::PowerLaw DoseHistory::near(float open_s) const {
   PowerLaw law;
-  if (count_ < 2 || !(open_s > 0.0f)) return law;
+  if (count_ == 0 || !(open_s > 0.0f)) return law;
+  if (count_ == 1) return through_one_dose(entries_[0]);
   const float x0 = std::log(open_s);
   float x[kDoses], y[kDoses], w[kDoses];
   float sw = 0.0f, sx = 0.0f, sy = 0.0f;
