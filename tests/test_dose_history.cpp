@@ -1,6 +1,7 @@
 // The kept doses and their curve (dose_history.hpp): a power law recovered from doses on it, the
 // doses near the open time asked for weighing most, the exponent held within [1, 4], the cube through
-// a single dose, and what does not fit the compact record left out or refused.
+// a single dose and beyond the longer of two, and what does not fit the compact record left out or
+// refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -54,8 +55,8 @@ TEST(DoseHistory, TheExponentStaysWithinOneAndFour) {
 
 // No dose tells no curve. One tells its fill, not its slope: beyond it the fill is taken to grow as
 // the cube of the open time, as it does while the gate is still opening (twice the open time, eight
-// times the fill), not as the line through it. Doses all at one open time tell their fill, not their
-// slope (taken as 2).
+// times the fill), not as the line through it. Three doses all at one open time tell their fill, not
+// their slope (taken as 2).
 TEST(DoseHistory, OneDoseGivesTheCubeThroughItAndASlopeOnlyWhereTheDosesDiffer) {
   DoseHistory h;
   EXPECT_FALSE(h.near(0.1f).valid);
@@ -67,12 +68,34 @@ TEST(DoseHistory, OneDoseGivesTheCubeThroughItAndASlopeOnlyWhereTheDosesDiffer) 
   EXPECT_NEAR(one.fill_g(0.2f), 800.0f, 0.1f);
   EXPECT_NEAR(one.growth_g_per_s(0.1f), 3000.0f, 0.5f);
   h.add(0.1f, 120.0f);
+  h.add(0.1f, 110.0f);
   const DoseHistory::PowerLaw law = h.near(0.2f);
   ASSERT_TRUE(law.valid);
   EXPECT_FLOAT_EQ(law.k, 2.0f);
-  EXPECT_NEAR(law.fill_g(0.1f), std::sqrt(100.0 * 120.0), 0.5);
+  EXPECT_NEAR(law.fill_g(0.1f), std::cbrt(100.0 * 120.0 * 110.0), 0.5);
   EXPECT_FALSE(h.near(0.0f).valid);
   EXPECT_FALSE(h.near(-1.0f).valid);
+}
+
+// Two doses a fifth apart in open time whose fills hardly differ (a valve's jitter, a flow's
+// start-up): their fit's slope holds between them, but beyond the longer the curve grows at least as
+// the cube through it. A third dose's slope is taken as it is.
+TEST(DoseHistory, BeyondTheLongerOfTwoDosesTheCurveGrowsAtLeastAsTheCube) {
+  DoseHistory h;
+  h.add(0.14f, 205.0f);
+  h.add(0.17f, 213.0f);
+  const DoseHistory::PowerLaw within = h.near(0.16f), beyond = h.near(0.3f);
+  ASSERT_TRUE(within.valid);
+  ASSERT_TRUE(beyond.valid);
+  EXPECT_FLOAT_EQ(within.k, 1.0f);
+  EXPECT_FLOAT_EQ(beyond.k, 3.0f);
+  EXPECT_NEAR(beyond.fill_g(0.17f), 213.0f, 0.05f);
+  EXPECT_NEAR(beyond.fill_g(0.34f), 8.0f * 213.0f, 0.5f);
+  DoseHistory steep;
+  add_on_power_law(steep, 1e6, 3.5, {0.14, 0.17});
+  EXPECT_NEAR(steep.near(0.3f).k, 3.5f, 0.01f) << "a steeper fit stands";
+  h.add(0.2f, 230.0f);
+  EXPECT_LT(h.near(0.3f).k, 1.5f);
 }
 
 TEST(DoseHistory, KeepsTheLastEightAndLeavesOutWhatTheRecordCannotHold) {

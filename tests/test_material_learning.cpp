@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <utility>
 #include <vector>
 
 #include "dynweigh/firmware/dose_plan.hpp"
@@ -746,6 +747,25 @@ TEST(MaterialLearning, TheSecondBlindFillIsTimedByTheCubeThroughTheFirst) {
     const std::vector<double> errors = fills(plant.scene, settings, 500, 2);
     std::printf("plant %u of @101, 500 g: %+.1f then %+.1f g\n", index + 1, errors[0], errors[1]);
     EXPECT_LE(errors[1], 3.0 * x1_limit_g(500.0)) << "plant " << index + 1;
+  }
+}
+
+// Four plants of the families of seeds 202 and 101, never tuned on: 3.2 to 9.7 kg/s behind gates of
+// 110 to 250 ms with 5 to 8 ms of jitter, where a 500 g fill closes with the gate part open. Their
+// first two fills, one on the prior and one on the cube through it, each topped up, leave two
+// doses whose fills differ by little against their open times (the valve's jitter and the flow's
+// start-up outweigh what a few tens of milliseconds add there): the curve fitted to them was
+// nearly a line, and the third fills came out 206, 124, 131 and 67 g over. Beyond the longer of
+// two doses the curve now grows at least as the cube through it.
+TEST(MaterialLearning, TheThirdBlindFillIsNotTimedByTwoDosesThatShowedLittleGrowth) {
+  const std::pair<std::uint64_t, std::uint32_t> plants[] = {{202, 82}, {202, 106}, {202, 162}, {101, 178}};
+  for (const auto& [seed, index] : plants) {
+    const sim::FamilyPlant plant = sim::draw_family_plant(seed, index);
+    PersistentSettings settings = family_commissioned(plant);
+    const std::vector<double> errors = fills(plant.scene, settings, 500, 3);
+    std::printf("plant %u of @%u, 500 g: %+.1f %+.1f %+.1f g\n", unsigned(index + 1), unsigned(seed), errors[0],
+                errors[1], errors[2]);
+    EXPECT_LE(errors[2], 3.0 * x1_limit_g(500.0)) << "plant " << index + 1 << " of @" << seed;
   }
 }
 

@@ -11,8 +11,11 @@ constexpr float kMostK = 4.0f;
 constexpr float kPriorK = 2.0f;  // doses all at one open time tell no slope: a gate opening halfway
 // One dose tells no slope either, and beyond it the line through it is what overdoses: the curve
 // through it grows as a gate still opening lets the fill grow (docs/plant-family.md, The second
-// blind close).
+// and third blind closes). Two doses tell it badly: each fill scatters by the valve's jitter and
+// the flow's start-up, and two a fifth apart in open time showed no growth at all on valves whose
+// fill then grew fourfold. Beyond the longer of two, the curve grows at least as through one.
 constexpr float kOneDoseK = 3.0f;
+constexpr std::uint8_t kDosesThatTellASlopeBeyond = 3;
 constexpr float kLeastWeight = 1e-3f;
 }  // namespace
 
@@ -43,7 +46,7 @@ bool DoseHistory::restore(const Entry (&entries)[kDoses], std::uint8_t count, st
   return true;
 }
 
-DoseHistory::PowerLaw DoseHistory::through_one_dose(const Entry& dose) {
+DoseHistory::PowerLaw DoseHistory::cube_through(const Entry& dose) {
   PowerLaw law;
   law.k = kOneDoseK;
   law.log_a = std::log(float(dose.final_g)) - kOneDoseK * std::log(float(dose.open_100us) * kSecondsPerUnit);
@@ -55,13 +58,15 @@ DoseHistory::PowerLaw DoseHistory::through_one_dose(const Entry& dose) {
 DoseHistory::PowerLaw DoseHistory::near(float open_s) const {
   PowerLaw law;
   if (count_ == 0 || !(open_s > 0.0f)) return law;
-  if (count_ == 1) return through_one_dose(entries_[0]);
+  if (count_ == 1) return cube_through(entries_[0]);
   const float x0 = std::log(open_s);
   float x[kDoses], y[kDoses], w[kDoses];
   float sw = 0.0f, sx = 0.0f, sy = 0.0f;
+  std::size_t longest = 0;
   for (std::size_t i = 0; i < count_; ++i) {
     x[i] = std::log(float(entries_[i].open_100us) * kSecondsPerUnit);
     y[i] = std::log(float(entries_[i].final_g));
+    if (x[i] > x[longest]) longest = i;
     const float d = (x[i] - x0) / kNearness;
     w[i] = std::exp(-d * d);
     sw += w[i];
@@ -77,6 +82,7 @@ DoseHistory::PowerLaw DoseHistory::near(float open_s) const {
   }
   float k = sxx > 1e-4f * sw ? sxy / sxx : kPriorK;
   k = k < kLeastK ? kLeastK : (k > kMostK ? kMostK : k);
+  if (count_ < kDosesThatTellASlopeBeyond && x0 > x[longest] && k < kOneDoseK) return cube_through(entries_[longest]);
   law.valid = std::isfinite(k) && std::isfinite(my - k * mx);
   law.k = k;
   law.log_a = my - k * mx;

@@ -14,9 +14,10 @@
 // open time, or faster than the fourth power of it, are none this law has seen). A single dose tells
 // no slope: the curve through it grows as the cube of the open time, as a fill does while the gate
 // is still opening; the line through that one dose, carried to the next dose's open time, overdosed
-// 500 g fills by up to 430 g on the plant family. The model cutoff predicts the larger of
-// the line and this curve (model_cutoff.hpp): a close the curve times ends short at worst, and a
-// top-up finishes it.
+// 500 g fills by up to 430 g on the plant family. Two doses tell it badly (each scatters by the
+// valve's jitter and the flow's start-up): beyond the longer of two, the curve grows at least as
+// the cube. The model cutoff predicts the larger of the line and this curve (model_cutoff.hpp): a
+// close the curve times ends short at worst, and a top-up finishes it.
 //
 // Stored compactly, so that sixteen materials' histories fit the settings record and the Cortex-M's
 // RAM: the open time in 0.1 ms (up to 6.5 s) and the final in grams (up to 65 kg). A dose that does
@@ -50,7 +51,8 @@ class DoseHistory {
 
   // A certified dose that ran full open for `open_s` and delivered `final_g`: the oldest makes room.
   void add(float open_s, float final_g);
-  // The power law near `open_s` (invalid with no dose or none near it; with one, the cube through it).
+  // The power law near `open_s` (invalid with no dose or none near it; with one, the cube through it;
+  // with two, at least the cube beyond the longer).
   PowerLaw near(float open_s) const;
   std::size_t size() const { return count_; }
 
@@ -60,7 +62,7 @@ class DoseHistory {
   bool restore(const Entry (&entries)[kDoses], std::uint8_t count, std::uint8_t next);
 
  private:
-  static PowerLaw through_one_dose(const Entry& dose);
+  static PowerLaw cube_through(const Entry& dose);
   Entry entries_[kDoses] = {};
   std::uint8_t count_ = 0;
   std::uint8_t next_ = 0;  // where the next dose goes
