@@ -751,12 +751,12 @@ TEST(MaterialLearning, TheSecondBlindFillIsTimedByTheCubeThroughTheFirst) {
 }
 
 // Four plants of the families of seeds 202 and 101, never tuned on: 3.2 to 9.7 kg/s behind gates of
-// 110 to 250 ms with 5 to 8 ms of jitter, where a 500 g fill closes with the gate part open. Their
-// first two fills, one on the prior and one on the cube through it, each topped up, leave two
-// doses whose fills differ by little against their open times (the valve's jitter and the flow's
-// start-up outweigh what a few tens of milliseconds add there): the curve fitted to them was
-// nearly a line, and the third fills came out 206, 124, 131 and 67 g over. Beyond the longer of
-// two doses the curve now grows at least as the cube through it.
+// 110 to 255 ms with 5.5 to 8.4 ms of jitter, where a 500 g fill closes with the gate part open.
+// Their first two fills, one on the prior and one on the cube through it, leave two doses whose
+// fills differ by little against their open times (the valve's jitter and the flow's start-up
+// outweigh what a few tens of milliseconds add there): the curve fitted to them, carried beyond
+// the longer, grew too little, and the third fills came out 206, 124, 131 and 67 g over. Beyond the
+// longer of two doses the curve now grows at least as the cube through it.
 TEST(MaterialLearning, TheThirdBlindFillIsNotTimedByTwoDosesThatShowedLittleGrowth) {
   const std::pair<std::uint64_t, std::uint32_t> plants[] = {{202, 82}, {202, 106}, {202, 162}, {101, 178}};
   for (const auto& [seed, index] : plants) {
@@ -769,10 +769,11 @@ TEST(MaterialLearning, TheThirdBlindFillIsNotTimedByTwoDosesThatShowedLittleGrow
   }
 }
 
-// A new material's first dose is 500 g, its second 10 kg, on the plants of the test above. The 10 kg
-// dose is timed blind too, and the cube through the one kept dose would reach 10 kg at about four
-// times that dose's open time; the law's reach, twice it, comes first. The dose closes there, far
-// short, and its three top-ups finish it within X(1), as before the cube.
+// A new material's first dose is 500 g, its second 10 kg, on the three plants of
+// TheSecondBlindFillIsTimedByTheCubeThroughTheFirst. The 10 kg dose is timed blind too, and the cube
+// through the one kept dose would reach 10 kg at about four times that dose's open time; the law's
+// reach, twice it, comes first. The dose closes there, far short, and its three top-ups finish it
+// within X(1), as before the cube.
 TEST(MaterialLearning, ALargeDoseAfterOneSmallOneIsFinishedByItsTopUps) {
   for (std::uint32_t index : {45u, 79u, 170u}) {
     const sim::FamilyPlant plant = sim::draw_family_plant(101, index);
