@@ -771,8 +771,8 @@ TEST(MaterialLearning, TheThirdBlindFillIsNotTimedByTwoDosesThatShowedLittleGrow
 
 // A new material's first dose is 500 g, its second 10 kg, on the three plants of
 // TheSecondBlindFillIsTimedByTheCubeThroughTheFirst. The 10 kg dose is timed blind too, and the cube
-// through the one kept dose would reach 10 kg at about four times that dose's open time; the law's
-// reach, twice it, comes first. The dose closes there, far short, and its three top-ups finish it
+// through the one kept dose reaches 10 kg only at several times that dose's open time; the law's
+// reach, about twice it, comes first. The dose closes there, far short, and its three top-ups finish it
 // within X(1), as before the cube.
 TEST(MaterialLearning, ALargeDoseAfterOneSmallOneIsFinishedByItsTopUps) {
   for (std::uint32_t index : {45u, 79u, 170u}) {
