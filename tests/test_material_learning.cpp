@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <utility>
@@ -37,9 +38,10 @@ PersistentSettings after_power_cut(const PersistentSettings& settings) {
   return restored;
 }
 
-// Fills of one target, back to back, each on a fresh plant; the errors by the plant's true mass.
+// Fills of one target, back to back, each on a fresh plant; the errors by the plant's true mass, and
+// (if asked) each fill's top-up pulses.
 std::vector<double> fills(const sim::Scene& scene, PersistentSettings& settings, int target_g, int count,
-                          const char* strategy = "model") {
+                          const char* strategy = "model", std::vector<int>* topups = nullptr) {
   std::vector<double> errors;
   for (int k = 0; k < count; ++k) {
     ConsoleSession c(scene, std::uint64_t(100 + k), settings);
@@ -47,6 +49,7 @@ std::vector<double> fills(const sim::Scene& scene, PersistentSettings& settings,
     const double before_kg = c.session().plant().truth().static_kg;
     const auto lines = lines_of(c.run({"dose " + std::to_string(target_g) + " " + strategy}));
     EXPECT_EQ(lines.size(), 2u) << (lines.empty() ? "" : lines.front());
+    if (topups && !lines.empty()) topups->push_back(std::atoi(field(lines.front(), "topups").c_str()));
     settings = after_power_cut(c.session().indicator().settings());
     errors.push_back((c.session().plant().truth().static_kg - before_kg) * 1000.0 - double(target_g));
   }
@@ -828,6 +831,45 @@ TEST(MaterialLearning, LawTimedSmallFillsOfAFluctuatingStreamStayWithinX1) {
   // Trusting the law to 1 % of the fill: 5 over, the worst +44 g.
   EXPECT_LE(over, 3);
   EXPECT_LE(worst_g, 3.0 * x1_limit_g(500.0));
+}
+
+// Three plants of the families of seeds 17, 3 and 13 (sim/plant_family.hpp), never tuned on,
+// commissioned and dosed as the bench does (six fills of each target up to the one watched). Their 5
+// and 10 kg fills close short on purpose and pulses finish them. The pulse before the last aimed for
+// the class alone: at 0.8 of a deficit of some 70 g, where the cycle tops up a fill still 0.3 TL1
+// short, so the last pulse followed nearly every time, three pulses a fill. Weighing the second wait
+// a last pulse costs, and the series' mean, it now finishes most fills itself, within X(1): fills 2
+// to 6 of the three took 37 pulses before, 29 now.
+TEST(MaterialLearning, ThePulseBeforeTheLastFinishesMostFillsItself) {
+  struct Watched {
+    std::uint64_t seed;
+    std::uint32_t index;
+    int target_g;
+  };
+  int all_pulses = 0;
+  for (const Watched& w : {Watched{17, 59, 5000}, Watched{3, 110, 10000}, Watched{13, 75, 5000}}) {
+    const sim::FamilyPlant plant = sim::draw_family_plant(w.seed, w.index);
+    PersistentSettings settings = family_commissioned(plant);
+    for (int target_g : {500, 1000, 2000, 5000}) {
+      if (target_g < w.target_g) fills(plant.scene, settings, target_g, 6);
+    }
+    std::vector<int> topups;
+    const std::vector<double> errors = fills(plant.scene, settings, w.target_g, 6, "model", &topups);
+    std::printf("plant %u of @%u, %d g:", unsigned(w.index + 1), unsigned(w.seed), w.target_g);
+    double mean_g = 0.0;
+    int pulses = 0;
+    for (std::size_t k = 1; k < errors.size(); ++k) {
+      std::printf(" %+.1f g (%d)", errors[k], topups[k]);
+      mean_g += errors[k] / double(errors.size() - 1);
+      pulses += topups[k];
+    }
+    std::printf("; %d pulses over fills 2-6\n", pulses);
+    const model::OimlR61Limits<double> x1 = model::oiml_r61_x1_limits(double(w.target_g));
+    all_pulses += pulses;
+    for (std::size_t k = 1; k < errors.size(); ++k) EXPECT_LE(std::abs(errors[k]), x1.initial_verification_g);
+    EXPECT_LE(std::abs(mean_g), x1.in_service_g / 4.0);
+  }
+  EXPECT_LE(all_pulses, 31);
 }
 
 }  // namespace

@@ -593,6 +593,18 @@ TEST(TopUpPulse, OnlyASizedPulseTooShortToPartTheGateMayMoveNothingAndGoOn) {
   EXPECT_EQ(judge_pulse(40.0f, 0.0f, 0.001f, 0.0f, true), PulseVerdict::moved_nothing);
 }
 
+// OIML R61 allows a series' mean a quarter of the in-service limit of the class asked for: what the
+// pulse before the last weighs a fill ending above the target against.
+TEST(DosePlan, TheClassAllowsTheMeanAQuarterOfItsInServiceLimit) {
+  firmware::DosePlanner planner;
+  planner.configure(1.0f, 0.5f, 0.01f);
+  EXPECT_FLOAT_EQ(planner.class_mean_limit_g(5000.0f), 75.0f / 4.0f);
+  EXPECT_FLOAT_EQ(planner.class_mean_limit_g(500.0f), 15.0f / 4.0f);
+  planner.configure(0.5f, 0.5f, 0.01f);
+  EXPECT_FLOAT_EQ(planner.class_mean_limit_g(500.0f), 0.5f * 15.0f / 4.0f);
+  EXPECT_FLOAT_EQ(planner.class_mean_limit_g(15000.0f), 0.5f * 150.0f / 4.0f);
+}
+
 // The default scene at 10 kg: the model's close is measured and its uncertainty small. X(10) needs
 // no more than full flow; X(0.1) needs a fine feed or a deliberate undershoot, and `estimates`' PLAN
 // line shows why (twice the uncertainty beyond the class's limit).

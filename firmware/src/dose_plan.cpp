@@ -90,6 +90,10 @@ float DosePlanner::class_limit_g(float target_g) const {
   return class_x_ * model::oiml_r61_x1_limits(target_g).initial_verification_g;
 }
 
+float DosePlanner::class_mean_limit_g(float target_g) const {
+  return class_x_ * model::oiml_r61_x1_limits(target_g).in_service_g / 4.0f;
+}
+
 PlanChoice DosePlanner::choose(float target_g, float predicted_g, float in_flight_g, bool measuring, bool law_taught,
                                float flight_s, float let_through_sigma_g, float measured_sigma_scale,
                                FineFeedOutlook fine) const {

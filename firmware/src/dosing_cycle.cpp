@@ -220,7 +220,8 @@ void DosingCycle::keep_top_up_flow() {
   top_up_flow_g_s_ = flow_g_s > 0.0f ? flow_g_s : 0.0f;
 }
 
-void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after) {
+void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after,
+                               float accepted_short_g) {
   if (!topping_up_ && sizes_top_ups()) {
     top_up_law_.begin(top_up_flow_g_s_, model_.half_flow_ratio(), model_.stroke_timed_s(), kLongestSizedPulseS,
                       model_.gate_flow_shape());
@@ -229,7 +230,9 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_
   topping_up_ = true;
   if (sizes_top_ups()) {
     if (half_travel_s_ > 0.0f) top_up_law_.timed_travel(true, half_travel_s_);
-    pulse_ = top_up_law_.size(deficit_g, {pulses_after, planner_.class_limit_g(float(result_.target_g))});
+    const float target_g = float(result_.target_g);
+    const float mean_limit_g = accepted_short_g > 0.0f ? planner_.class_mean_limit_g(target_g) : 0.0f;
+    pulse_ = top_up_law_.size(deficit_g, {pulses_after, planner_.class_limit_g(target_g), accepted_short_g, mean_limit_g});
   } else {
     pulse_ = TopUpPulseLaw::Pulse{ValveCommand::open, fixed_pulse_s, 0.0f};
   }

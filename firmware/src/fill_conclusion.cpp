@@ -56,10 +56,19 @@ void Indicator::save_lessons() {
   settings_changed_ = true;
 }
 
+// How far short the model strategy leaves a fill without topping it up: its plan may have aimed
+// short on purpose, and fills that all end just inside the warning band would average short by
+// most of it. Its pulses weigh the chance of ending further short (top_up_pulse_law.hpp).
+float Indicator::model_accepted_short_g() const {
+  const ToleranceBands bands = tolerance_bands(float(concluding_.target_g), settings_.parameters);
+  return model_top_up_shortfall_g(dosing_.plan().plan, bands.warn_low_g);
+}
+
 void Indicator::start_top_up() {
   follow_up_.start_top_up();
+  const float accepted_short_g = concluding_.strategy == DosingStrategy::model ? model_accepted_short_g() : 0.0f;
   dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s(),
-                       follow_up_.pulses_left());
+                       follow_up_.pulses_left(), accepted_short_g);
 }
 
 void Indicator::judge_result() {
@@ -67,10 +76,9 @@ void Indicator::judge_result() {
   const float error_g = float(concluding_.final_g - concluding_.target_g);
   const ToleranceBands bands = tolerance_bands(float(concluding_.target_g), p);
   verdict_ = judge_tolerance(error_g, bands);
-  // The model strategy finishes a fill short of its class itself (its plan may have aimed short on
-  // purpose), and not merely into the warning band: fills that all end just inside it would average
-  // short by most of the band. tol_action judges what the top-ups left.
-  const bool short_of_class = error_g < -model_top_up_shortfall_g(dosing_.plan().plan, bands.warn_low_g);
+  // The model strategy finishes a fill short of its class itself, and not merely into the warning
+  // band (model_accepted_short_g). tol_action judges what the top-ups left.
+  const bool short_of_class = error_g < -model_accepted_short_g();
   const bool may_top_up = follow_up_.may_top_up() && !dosing_.reading_frozen();
   if (concluding_.strategy == DosingStrategy::model && short_of_class && may_top_up) {
     return start_top_up();

@@ -30,6 +30,14 @@ float last_miss_chance(float mass_g, const LastPulseSpread& last, float limit_g)
 }
 }  // namespace
 
+float pulse_ends_short_chance(float left_g, float spread_g, float short_g) {
+  return upper_tail((short_g - left_g) / held_spread(spread_g));
+}
+
+float pulse_ends_over_chance(float left_g, float spread_g, float over_g) {
+  return upper_tail((left_g + over_g) / held_spread(spread_g));
+}
+
 float pulse_pair_miss_chance(float deficit_g, float aim_g, float spread_g, const LastPulseSpread& last,
                              float limit_g) {
   const float s = held_spread(spread_g);

@@ -251,7 +251,7 @@ float TopUpPulseLaw::aim_g(const Law& law, float deficit_g, const Outlook& outlo
   // the fixed share, whatever it thinks it knows.
   if (law.pulses == 0) return kFirstAim * deficit_g;
   if (outlook.pulses_after == 1 && outlook.limit_g > 0.0f) {
-    return risk_aim_g(law, deficit_g, outlook.limit_g);
+    return risk_aim_g(law, deficit_g, outlook);
   }
   return sure_aim_g(law, deficit_g);
 }
@@ -263,20 +263,29 @@ float TopUpPulseLaw::sure_aim_g(const Law& law, float deficit_g) const {
   return aim > kLeastAim * deficit_g ? aim : kLeastAim * deficit_g;
 }
 
-// The aim, from kLeastAim of the deficit to all of it, whose fill is likeliest within `limit_g`;
+// The aim, from kLeastAim of the deficit to all of it, whose fill is likeliest within the class's
+// limit, with what it costs in time and in the series' mean weighed in when the outlook gives them;
 // of aims as likely, the one that leaves the least for the last pulse. The last pulse's spread is
 // the law's at a tenth and at half the deficit, taken as a line.
-float TopUpPulseLaw::risk_aim_g(const Law& law, float deficit_g, float limit_g) const {
+float TopUpPulseLaw::risk_aim_g(const Law& law, float deficit_g, const Outlook& outlook) const {
+  const float limit_g = outlook.limit_g;
+  const bool weighs_time_and_mean = outlook.mean_limit_g > 0.0f;
   const float small_g = 0.1f * deficit_g, large_g = 0.5f * deficit_g;
   const float small_spread_g = spread_g(law, seconds_for(law, small_g));
   const float per_g = (spread_g(law, seconds_for(law, large_g)) - small_spread_g) / (large_g - small_g);
   const LastPulseSpread last{small_spread_g - per_g * small_g, per_g};
-  float best_aim_g = kLeastAim * deficit_g, best_chance = 2.0f;
+  float best_aim_g = kLeastAim * deficit_g, best_cost = 2.0f;
   for (int i = 0; i <= kRiskAimSteps; ++i) {
     const float aim = (kLeastAim + (1.0f - kLeastAim) * float(i) / float(kRiskAimSteps)) * deficit_g;
-    const float chance = pulse_pair_miss_chance(deficit_g, aim, spread_g(law, seconds_for(law, aim)), last, limit_g);
-    if (chance <= best_chance) {
-      best_chance = chance;
+    const float spread = spread_g(law, seconds_for(law, aim));
+    float cost = pulse_pair_miss_chance(deficit_g, aim, spread, last, limit_g);
+    if (weighs_time_and_mean) {
+      const float left_g = deficit_g - aim;
+      cost += kAnotherPulseWorth * pulse_ends_short_chance(left_g, spread, outlook.accepted_short_g) +
+              kAboveMeanLimitWorth * pulse_ends_over_chance(left_g, spread, outlook.mean_limit_g);
+    }
+    if (cost <= best_cost) {
+      best_cost = cost;
       best_aim_g = aim;
     }
   }

@@ -85,6 +85,9 @@ class DosePlanner {
   void configure(float class_x, float half_flow_ratio, float jiffy_s);
   // The class's warning limit (TL1) at `target_g`.
   float class_limit_g(float target_g) const;
+  // How far from `target_g` the class allows the mean of a series of fills: a quarter of its
+  // in-service limit (OIML R61).
+  float class_mean_limit_g(float target_g) const;
   void start();
   // Each jiffy the stream is measured: the landing rate, for its fluctuation.
   void observe_rate(float rate_g_per_jiffy);

@@ -64,8 +64,10 @@ class DosingCycle {
   // result's final and time then include the pulse, its cutoff stays the first close's). The pulse
   // is sized from the flow the dose measured (top_up_pulse_law.hpp), at most `fixed_pulse_s`; a
   // strategy that measured no flow pulses `fixed_pulse_s` full open. `pulses_after`: how many more
-  // the dose may give (0: this is the last).
-  void start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after = 255);
+  // the dose may give (0: this is the last); `accepted_short_g`: how far short a fill may end
+  // without another (0: not told, and the pulse before the last aims for the class alone).
+  void start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_t pulses_after = 255,
+                    float accepted_short_g = 0.0f);
   // After the top-up's certified result: what the pulse delivered; false if the scale saw (about)
   // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
   bool learn_top_up(float delivered_g);
