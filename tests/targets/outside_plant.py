@@ -309,6 +309,16 @@ class Physics:
         """Force on the load cell above the empty scale (the spring's, or the rigid load's)."""
         return self.y
 
+    def ring_n(self):
+        """How far the platform swings about the load it carries now (the amplitude of its free
+        oscillation from where it is and how fast it moves), in newtons on the load cell."""
+        c = self.config
+        if c.rigid:
+            return 0.0
+        mass = c.platform_kg + self.landed_kg + self.test_weight_kg()
+        load_n = (self.landed_kg + self.test_weight_kg()) * G + self.impact_n
+        return math.hypot(self.y - load_n, self.vy * math.sqrt(mass / self.stiffness))
+
     def sample(self):
         """The ADC's reading of this instant: (int32 counts, status bits)."""
         c = self.config

@@ -5,7 +5,7 @@ import os
 import sys
 import tempfile
 
-from outside_plant import JIFFY_S, OutsidePlant, PlantConfig, ProtocolError
+from outside_plant import G, JIFFY_S, OutsidePlant, PlantConfig, ProtocolError
 from targets_common import field
 
 
@@ -74,6 +74,7 @@ class Dose:
         self.released_after = None
         self.answer = None
         self.opened_jiffy = None
+        self.ring_after_g = None  # the platform's ring when the answer came (the plant's truth)
 
     @property
     def truth_g(self):
@@ -101,6 +102,7 @@ class DoseLog:
         dose = Dose(target, strategy or "model", plant.jiffy, plant.physics.released_kg)
         self.doses.append(dose)
         dose.answer = plant.command(line, max_seconds)
+        dose.ring_after_g = plant.physics.ring_n() / G * 1000.0
         opens = plant.open_commands_since(dose.sent_jiffy)
         dose.opened_jiffy = opens[0].jiffy if opens else None
         return dose
