@@ -279,7 +279,9 @@ float TopUpPulseLaw::risk_aim_g(const Law& law, float deficit_g, const Outlook& 
     const float aim = (kLeastAim + (1.0f - kLeastAim) * float(i) / float(kRiskAimSteps)) * deficit_g;
     const float spread = spread_g(law, seconds_for(law, aim));
     float cost = pulse_pair_miss_chance(deficit_g, aim, spread, last, limit_g);
-    if (weighs_time_and_mean) {
+    // The weighed chances only add: an aim already costlier than the best needs neither (the
+    // Cortex-M's jiffy that sizes the pulse has room for few exponentials).
+    if (weighs_time_and_mean && cost <= best_cost) {
       const float left_g = deficit_g - aim;
       cost += kAnotherPulseWorth * pulse_ends_short_chance(left_g, spread, outlook.accepted_short_g) +
               kAboveMeanLimitWorth * pulse_ends_over_chance(left_g, spread, outlook.mean_limit_g);
