@@ -11,7 +11,7 @@
 // standard deviation). That is all a choice among a few aims needs (see the tests), at a fixed,
 // small cost: no quadrature in a jiffy.
 // The miss chance counts no time and no series. A fill left short by more than the cycle accepts
-// (model_top_up_shortfall_g, a third or half of the limit) waits for the last pulse's grains to land
+// (model_top_up_shortfall_g, 0.3 or half of the limit) waits for the last pulse's grains to land
 // and be certified again: about a second. A fill left above the target by more than the class allows
 // the fills' mean (a quarter of its in-service limit) is within the class itself, but moves the
 // series' mean toward that limit. The pulse's aim weighs both beside the miss chance

@@ -41,7 +41,7 @@
 // leaving the fill above the target by more than the class allows the fills' mean: each chance a
 // weight (kAnotherPulseWorth, kAboveMeanLimitWorth) beside the miss chance. Aiming for the class
 // alone, it aimed at 0.8 of 72 g where the cycle tops up below 16 g, and the last pulse followed
-// more often than not (docs/plant-family.md, The pulse before the last).
+// more often than not (docs/plant-family.md, The pulse before the last weighs its time).
 // The pulses open the valve half, unless even the longest pulse allowed could not bring the deficit
 // at half open's flow. A pulse's mass is off by the valve's timing jitter times the flow where the
 // gate turns back (the jitter moves both the turn and the closing ramp that follows it). A
@@ -75,10 +75,10 @@ class TopUpPulseLaw {
   // What the pulse before the last weighs beside its miss chance, in chances of missing the class:
   // that the last pulse must still follow (a second landing and certification, 0.5 to 1.2 s on the
   // plant family), and that the fill ends above the target by more than the class allows the mean.
-  // On twelve plant families (docs/plant-family.md) weights of 0.003 to 0.02 and 0.01 to 0.06 all
-  // gave 2 % more cells faster than every baseline; the second weight is what keeps the steady share:
-  // without it the fills that finish end above the target on average (the short ones are topped up,
-  // the long ones stay).
+  // On the plant families (docs/plant-family.md) weights of 0.003 to 0.02 and 0.01 to 0.06 all left
+  // about 2 % more cells unbeaten by every baseline; the second weight is what keeps the steady
+  // share: without it the fills that finish end above the target on average (the short ones are
+  // topped up, the long ones stay).
   static constexpr float kAnotherPulseWorth = 0.005f;
   static constexpr float kAboveMeanLimitWorth = 0.03f;
   // What may follow a pulse: how many more pulses the dose allows, the limit of the class its fill
