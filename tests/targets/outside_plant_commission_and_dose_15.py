@@ -28,8 +28,8 @@ CAL_TRIES = 3
 # more the hopper holds: its amplitude falls by e in 2 m / c (m the platform's and the load's mass, c
 # the damper's constant), 0.3 s on the empty 8 kg platform, 1.9 s with 44 kg in the hopper. Measured
 # here: 0.8-1.4 s after the 1 kg doses, up to 10 s with 44 kg on the scale. How large the ring is
-# when the result comes depends on how the fill ended (20 to 370 g here: a close that ends the
-# fill with the stream at full flow rings most), so the bound allows the stable window and as many
+# when the result comes depends on how the fill ended (20 to 370 g here, the most after a fill
+# its close ended, the stream cut at full flow), so the bound allows the stable window and as many
 # decay constants as the ring the plant shows at the last answer takes to fall into the 0.5 g the
 # display must hold (at least REST_DECAY_CONSTANTS: a 75 g ring). A hold behind a recording after
 # the short 1 kg doses (bounds of 2.0-2.7 s) still shows.
