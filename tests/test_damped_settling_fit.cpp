@@ -127,6 +127,31 @@ TEST(DampedSettlingFit, NoRingingGivesTheMean) {
   EXPECT_LE(std::fabs(o.mean_error_g), 0.1);
 }
 
+// A window that drops its oldest samples fits what is left, as one that never saw them.
+TEST(DampedSettlingFit, DroppedSamplesAreForgotten) {
+  const Ring ring{9.0, 0.05, 40.0, 1.0};
+  DampedSettlingFit<float, 64> all, later;
+  std::mt19937 generator(7);
+  std::normal_distribution<double> noise(0.0, ring.noise_g);
+  for (int n = 0; n < 50; ++n) {
+    const double t = n * kJiffyS, omega = 2.0 * M_PI * ring.hz;
+    // The first ten samples carry a force that no ringing explains.
+    const double extra_g = n < 10 ? 30.0 : 0.0;
+    const float y = float(2500.0 + extra_g + ring.amplitude_g * std::exp(-ring.damping_ratio * omega * t) *
+                                                 std::cos(omega * t) + noise(generator));
+    all.push(y);
+    if (n >= 10) later.push(y);
+  }
+  all.drop_oldest(10);
+  EXPECT_EQ(all.count(), later.count());
+  const auto dropped = all.fit(), fresh = later.fit();
+  ASSERT_TRUE(dropped.valid);
+  EXPECT_FLOAT_EQ(dropped.final_value, fresh.final_value);
+  EXPECT_FLOAT_EQ(dropped.residual_rms, fresh.residual_rms);
+  all.drop_oldest(100);
+  EXPECT_EQ(all.count(), 0u);
+}
+
 TEST(DampedSettlingFit, TooFewSamplesGiveNoEstimate) {
   DampedSettlingFit<float, 64> fit;
   for (std::size_t n = 0; n + 1 < DampedSettlingFit<float, 64>::kMinimumSamples; ++n) fit.push(100.0f + float(n % 2));

@@ -1,6 +1,8 @@
-// `dose 10000` in the default scene, judged by the plant's true mass, never the firmware's claim.
+// `dose` on the simulated plant (the default scene unless a test says otherwise), judged by the
+// plant's true mass, never the firmware's claim.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -125,6 +127,36 @@ TEST(Dose, FiveDosesIntoOneContainerRaiseNoFalseFault) {
     EXPECT_NEAR(c.session().plant().truth().static_kg, 30.0, 0.3);
     EXPECT_EQ(field(lines_of(c.run({"status"})).front(), "fault"), "none");
   }
+}
+
+// `fine-powder` lands its grains on an impact that relaxes over 80 ms: after the last grain the
+// reading is the fill, the platform's ringing and that force dying away. A fit of the ringing alone
+// followed it down slowly, and its estimates agreed while still 3.4 to 5.2 g high: the top-ups
+// stopped short. Certified only once the fit's residuals are near the noise the scale showed at
+// rest, the 500 g fills' results (pulses and all) are the true fill within 2.5 g each and within
+// 1.5 g on average.
+TEST(Dose, ARelaxingImpactIsNotCertifiedUntilTheFitDescribesTheReading) {
+  ConsoleSession c(*sim::scene_by_name("fine-powder"), 1);
+  c.run({"param density 600", "param repose_deg 40"});  // the installer's word for the powder
+  c.idle(100);
+  double worst_g = 0.0, sum_g = 0.0;
+  int pulses = 0;
+  for (int fill = 1; fill <= 6; ++fill) {
+    const double before_kg = c.session().plant().truth().static_kg;
+    const auto lines = lines_of(c.run({"dose 500"}));
+    ASSERT_EQ(lines.size(), 2u) << "fill " << fill << ": " << lines.front();
+    ASSERT_EQ(lines.front().rfind("RESULT", 0), 0u) << lines.front();
+    const double true_g = (c.session().plant().truth().static_kg - before_kg) * 1000.0;
+    const double claim_error_g = std::stod(field(lines.front(), "final")) - true_g;
+    std::printf("fill %d: %s; true fill %.1f g, certified %+.1f g off\n", fill, lines.front().c_str(), true_g,
+                claim_error_g);
+    worst_g = std::max(worst_g, std::abs(claim_error_g));
+    sum_g += claim_error_g;
+    pulses += std::stoi(field(lines.front(), "topups"));
+  }
+  EXPECT_GE(pulses, 6) << "the fills were to be finished by top-ups, each certified after its pulse";
+  EXPECT_LE(worst_g, 2.5);
+  EXPECT_LE(std::abs(sum_g / 6.0), 1.5);
 }
 
 }  // namespace

@@ -238,9 +238,10 @@ void Indicator::run_queued_lines() {
 
 void Indicator::advance_dose() {
   const Calibration& cal = settings_.calibration;
-  dosing_.watch_standstill(filtered_weight_g());
+  const float net_g = scale_.screened_net_g(cal);
+  dosing_.watch_standstill(filtered_weight_g(), net_g);
   if (!dose_running()) return;
-  switch (dosing_.step(scale_.screened_net_g(cal), filtered_weight_g(), supervisor_.sample_current())) {
+  switch (dosing_.step(net_g, filtered_weight_g(), supervisor_.sample_current())) {
     case DosingCycle::Outcome::running:
       return;
     case DosingCycle::Outcome::timed_out:

@@ -16,6 +16,7 @@
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/pac_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/firmware/rest_noise.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
 #include "dynweigh/firmware/top_up_pulse_law.hpp"
 #include "dynweigh/firmware/two_stage_cutoff.hpp"
@@ -49,8 +50,9 @@ class DosingCycle {
   static constexpr float kNothingDeliveredShare = 0.2f;
 
   void configure(const Parameters& parameters);
-  // Every jiffy, dosing or not: whether the scale is at rest, and at what weight.
-  void watch_standstill(float filtered_weight_g) { standstill_.push(filtered_weight_g); }
+  // Every jiffy, dosing or not: whether the scale is at rest, at what weight, and with what noise on
+  // the unfiltered net weight.
+  void watch_standstill(float filtered_weight_g, float net_weight_g);
   // `learning` (the learn strategy's corrections) must outlive the dose; may be null otherwise.
   // The valve opens in the first step() whose sample finds the scale at rest (time counts from here).
   void start(std::int32_t target_g, DosingStrategy strategy, const LearningTable* learning = nullptr);
@@ -138,6 +140,7 @@ class DosingCycle {
   bool decide_flow_baseline(float filtered_weight_g);
   void close_valve(float settle_delay_s);
   bool certify(float net_weight_g, float filtered_weight_g);
+  bool settling_fit_describes_reading(float residual_rms_g);
   bool certify_dynamically() const;
   bool delivered_nothing() const;
   float nothing_delivered_limit_g() const;  // kNothingDeliveredClass x the target's X(1) limit
@@ -153,6 +156,8 @@ class DosingCycle {
   FlowPreactCutoff flow_preact_;
   StableWeightDetector stable_;
   StableWeightDetector standstill_;
+  RestNoise rest_noise_;
+  float rest_noise_g_ = 0.0f;  // the scale's noise at rest when the dose opened (rest_noise.hpp)
   model::DampedSettlingFit<float, 64> settling_fit_;
   float jiffy_s_ = 0.01f;
   float preact_g_ = 0.0f;

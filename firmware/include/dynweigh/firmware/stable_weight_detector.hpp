@@ -34,6 +34,8 @@ class StableWeightDetector {
     return count_ >= samples_needed_;
   }
   bool stable() const { return count_ >= samples_needed_; }
+  // The values in the present window (1: the last push began a new one).
+  std::uint32_t count() const { return count_; }
   float mean() const { return sum_.mean(count_); }
 
  private:

@@ -52,6 +52,8 @@ class DampedSettlingFit {
     ++pushed_;
   }
   std::size_t count() const { return count_; }
+  // Forgets the `samples` oldest kept (all of them if fewer are kept): the next fit starts later.
+  void drop_oldest(std::size_t samples) { count_ -= samples < count_ ? samples : count_; }
 
   struct Estimate {
     bool valid = false;
