@@ -8,6 +8,7 @@ namespace dynweigh::firmware {
 void StandstillAverage::start() {
   samples_ = 0;
   last_x_ = 0;
+  last_step_ = 0.0f;
   for (std::uint32_t s = 0; s < 3; ++s) {
     for (std::int64_t& v : stage_[s]) v = 0;
     stage_sum_[s] = 0;
@@ -28,8 +29,10 @@ void StandstillAverage::push(std::int32_t raw_counts) {
   if (samples_ == 0) base_ = raw_counts;
   const std::int64_t x = std::int64_t(raw_counts) - base_;
   const float step = float(x - last_x_);
-  const bool has_step = samples_ > 0;
+  const float bend = step - last_step_;
+  const bool has_bend = samples_ > 1;
   last_x_ = x;
+  last_step_ = step;
   ++samples_;
 
   std::int64_t value = x;
@@ -42,7 +45,7 @@ void StandstillAverage::push(std::int32_t raw_counts) {
   if (samples_ < 3 * kStageJiffies) return;  // the stages still fill
 
   block_sum_ += value;
-  if (has_step) block_noise_ += step * step;
+  if (has_bend) block_noise_ += bend * bend;
   if (++block_fill_ < kBlockJiffies) return;
   window_[window_head_] = block_sum_;
   window_noise_[window_head_] = block_noise_;
@@ -60,9 +63,12 @@ void StandstillAverage::push(std::int32_t raw_counts) {
 float StandstillAverage::noise_tolerance_counts() const {
   float squares = 0.0f;
   for (const float n : window_noise_) squares += n;
-  // White noise of sigma: first differences of variance 2 sigma^2; the window mean then moves by
-  // sigma sqrt(2 C) / W over C samples (C the steady time, W the window).
-  const float sigma = std::sqrt(squares / (2.0f * float(kWindowJiffies)));
+  // White noise of sigma: second differences of variance 6 sigma^2; the window mean then moves by
+  // sigma sqrt(2 C) / W over C samples (C the steady time, W the window). Second differences, not
+  // first: a platform still ringing below the stages' first null (a lightly damped platform under
+  // a test weight, 2 to 3 Hz) would count as noise ten times over in first differences, and the
+  // tolerance it widened let a `cal` take a mean the ring still moved (16 g on 20 kg).
+  const float sigma = std::sqrt(squares / (6.0f * float(kWindowJiffies)));
   return kNoiseSigmas * sigma * std::sqrt(2.0f * float(kSteadyJiffies)) / float(kWindowJiffies);
 }
 

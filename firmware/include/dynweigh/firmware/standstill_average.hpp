@@ -1,7 +1,7 @@
 #pragma once
 // The reading `zero` and `cal` take: the mean of the raw counts over a window, once that mean has
 // stopped moving. Before a calibration exists nothing is known in grams, so steadiness is judged in
-// counts: against the load cell's own noise (its sample-to-sample scatter), and for `cal` also
+// counts: against the load cell's own noise (its second differences' scatter), and for `cal` also
 // against a fraction of the span the caller passes as a floor.
 //
 // The counts first pass three moving averages of kStageJiffies each, which put nulls and deep
@@ -49,11 +49,12 @@ class StandstillAverage {
   std::int32_t base_ = 0;
   std::uint32_t samples_ = 0;
   std::int64_t last_x_ = 0;
+  float last_step_ = 0.0f;
   // Three cascaded moving sums.
   std::int64_t stage_[3][kStageJiffies] = {};
   std::int64_t stage_sum_[3] = {};
   std::uint32_t stage_head_ = 0;
-  // The third stage's output summed per block, and the noise (squared first differences) per block.
+  // The third stage's output summed per block, and the noise (squared second differences) per block.
   std::int64_t block_sum_ = 0;
   float block_noise_ = 0.0f;
   std::uint32_t block_fill_ = 0;
