@@ -1,6 +1,6 @@
 // The scale's noise at rest (firmware/include/dynweigh/firmware/rest_noise.hpp): the quietest rest
-// since power-up, so that a rest taken while the platform still rings does not loosen the
-// certification of the next fill.
+// kept, so that a rest taken while the platform still rings does not loosen the certification of
+// the next fill.
 #include <gtest/gtest.h>
 
 #include <cmath>

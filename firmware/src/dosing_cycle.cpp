@@ -60,8 +60,15 @@ void DosingCycle::configure(const Parameters& p) {
   standstill_.configure(p.get(ParameterId::stable_band_g), stable_jiffies);
 }
 
-void DosingCycle::watch_standstill(float filtered_weight_g, float net_weight_g) {
+void DosingCycle::watch_standstill(float filtered_weight_g, float net_weight_g, float counts_per_gram) {
   standstill_.push(filtered_weight_g);
+  // The noise in grams holds for one span: a new calibration forgets it, and without one the
+  // weights are 0 and tell nothing.
+  if (counts_per_gram != noise_span_) {
+    rest_noise_ = RestNoise{};
+    noise_span_ = counts_per_gram;
+  }
+  if (!(counts_per_gram > 0.0f)) return;
   if (standstill_.count() == 1) rest_noise_.restart();  // the weight moved: a new rest begins
   rest_noise_.push(net_weight_g - filtered_weight_g);
 }

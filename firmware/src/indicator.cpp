@@ -239,7 +239,7 @@ void Indicator::run_queued_lines() {
 void Indicator::advance_dose() {
   const Calibration& cal = settings_.calibration;
   const float net_g = scale_.screened_net_g(cal);
-  dosing_.watch_standstill(filtered_weight_g(), net_g);
+  dosing_.watch_standstill(filtered_weight_g(), net_g, cal.valid() ? cal.counts_per_gram : 0.0f);
   if (!dose_running()) return;
   switch (dosing_.step(net_g, filtered_weight_g(), supervisor_.sample_current())) {
     case DosingCycle::Outcome::running:

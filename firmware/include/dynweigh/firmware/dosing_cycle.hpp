@@ -51,8 +51,8 @@ class DosingCycle {
 
   void configure(const Parameters& parameters);
   // Every jiffy, dosing or not: whether the scale is at rest, at what weight, and with what noise on
-  // the unfiltered net weight.
-  void watch_standstill(float filtered_weight_g, float net_weight_g);
+  // the unfiltered net weight; `counts_per_gram` the span in use (0: not calibrated).
+  void watch_standstill(float filtered_weight_g, float net_weight_g, float counts_per_gram);
   // `learning` (the learn strategy's corrections) must outlive the dose; may be null otherwise.
   // The valve opens in the first step() whose sample finds the scale at rest (time counts from here).
   void start(std::int32_t target_g, DosingStrategy strategy, const LearningTable* learning = nullptr);
@@ -157,6 +157,7 @@ class DosingCycle {
   StableWeightDetector stable_;
   StableWeightDetector standstill_;
   RestNoise rest_noise_;
+  float noise_span_ = 0.0f;    // the span rest_noise_ was measured under
   float rest_noise_g_ = 0.0f;  // the scale's noise at rest when the dose opened (rest_noise.hpp)
   model::DampedSettlingFit<float, 64> settling_fit_;
   float jiffy_s_ = 0.01f;

@@ -1,8 +1,9 @@
 #pragma once
 // The scale's noise: the rms of the unfiltered net reading about the display filter's while the
-// filtered weight stands still, the quietest such rest seen since power-up. A settling fit whose
-// residuals are well above it does not describe the reading yet (an impact still relaxing, an
-// avalanche): dosing_cycle.cpp does not certify on it (docs/strategies.md, Dynamic weighing).
+// filtered weight stands still, the quietest such rest seen since power-up (DosingCycle forgets it
+// when the span changes). A settling fit whose residuals are well above it does not describe the
+// reading yet (an impact still relaxing, an avalanche): dosing_cycle.cpp does not certify on it
+// (docs/strategies.md, Dynamic weighing).
 // The quietest, not the last: between back-to-back fills the filtered weight is still within its
 // band while the platform rings, and that rest's rms is the ringing's.
 #include <cmath>
