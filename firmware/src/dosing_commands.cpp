@@ -36,6 +36,7 @@ void Indicator::start_dose(std::size_t material, std::int32_t target_g, DosingSt
   supervisor_.expect_dead_time_ms(entry.valve_slowest_dead_ms);
   dose_valve_watched_ = true;
   dosing_.start(target_g, strategy, &settings_.learning);
+  offer_sizing_reading(settings_.parameters.get(ParameterId::topup_max) >= 1.0f);
   dose_command_pending_ = true;
   recorder_.start();
   recording_source_ = RecordingSource{true, ++doses_started_, target_g, strategy};

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstddef>
 
-#include "dynweigh/firmware/pulse_verdict.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
 
 namespace dynweigh::firmware {
@@ -92,6 +91,10 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   fine_point_passed_ = false;
   plan_ = PlanChoice{};
   close_sigma_g_ = 0.0f;
+  sizing_warn_low_g_ = 0.0f;
+  sizing_reject_low_g_ = 0.0f;
+  reading_sizes_only_ = false;
+  close_taught_ = false;
   frozen_reading_ = false;
   still_samples_ = 0;
   phase_ = Phase::dosing;
@@ -276,6 +279,9 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_
   stable_.reset();
   settling_fit_.reset();
   estimates_ = 0;
+  sizing_warn_low_g_ = 0.0f;
+  sizing_reject_low_g_ = 0.0f;
+  reading_sizes_only_ = false;
   valve_ = pulse_.command;
   phase_ = Phase::pulsing;
 }
@@ -305,13 +311,31 @@ PlanChoice DosingCycle::plan() const {
   return baseline;
 }
 
-bool DosingCycle::learn_top_up(float delivered_g) {
-  const bool sized = sizes_top_ups();
+// Once per dose, from the close's first certified reading: a reading that only sized a pulse and
+// was then certified in full after all (certify_in_full) does not teach the close twice.
+void DosingCycle::learn_from_close() {
+  close_taught_ = true;
+  if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
+  if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
+  if (result_.strategy == DosingStrategy::flowpreact) flow_preact_.learn(float(result_.final_g));
+  if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) {
+    model_.learn(float(result_.final_g), close_sigma_g_);
+  }
+}
+
+PulseVerdict DosingCycle::last_pulse_verdict(float delivered_g) const {
   const float position = pulse_.command == ValveCommand::half ? 0.5f : 1.0f;
   const float travel_s = position * model_.stroke_in_use_s_now();
-  const PulseVerdict verdict = judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, travel_s, sized);
-  if (verdict == PulseVerdict::moved_nothing) return false;
-  if (sized) top_up_law_.learn(pulse_, delivered_g > 0.0f ? delivered_g : 0.0f);
+  return judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, travel_s, sizes_top_ups());
+}
+
+bool DosingCycle::pulse_moved_nothing(float delivered_g) const {
+  return last_pulse_verdict(delivered_g) == PulseVerdict::moved_nothing;
+}
+
+bool DosingCycle::learn_top_up(float delivered_g) {
+  if (pulse_moved_nothing(delivered_g)) return false;
+  if (sizes_top_ups()) top_up_law_.learn(pulse_, delivered_g > 0.0f ? delivered_g : 0.0f);
   return true;
 }
 
@@ -333,6 +357,7 @@ bool DosingCycle::certify_dynamically() const {
 }
 
 bool DosingCycle::certify(float net_weight_g, float filtered_weight_g) {
+  reading_sizes_only_ = false;
   if (stable_.push(filtered_weight_g)) {
     result_.final_g = std::int32_t(std::lround(stable_.mean() - start_weight_g_));
     return true;
@@ -344,15 +369,32 @@ bool DosingCycle::certify(float net_weight_g, float filtered_weight_g) {
   if (!settling_fit_describes_reading(estimate.residual_rms)) return false;
   recent_estimates_[estimates_ % kAgreementJiffies] = estimate.final_value;
   ++estimates_;
-  if (estimates_ < kAgreementJiffies || kConfidenceSigmas * estimate.standard_error > kCertifiedErrorG) return false;
-  float low = recent_estimates_[0], high = recent_estimates_[0];
-  for (float e : recent_estimates_) {
-    low = e < low ? e : low;
-    high = e > high ? e : high;
-  }
-  if (high - low > kAgreementG) return false;
+  const RecentEstimates recent{recent_estimates_, kAgreementJiffies, estimates_};
+  reading_sizes_only_ = sizes_next_pulse(recent, estimate.standard_error, estimate.final_value);
+  const bool certified = kConfidenceSigmas * estimate.standard_error <= kCertifiedErrorG &&
+                         newest_estimates_spread_g(recent, kAgreementJiffies) <= kAgreementG;
+  if (!reading_sizes_only_ && !certified) return false;
+  reading_sizes_only_ = reading_sizes_only_ && !certified;
   result_.final_g = std::int32_t(std::lround(estimate.final_value - start_weight_g_));
   return true;
+}
+
+// A fill that a pulse may follow, short by more than it is left: its reading need only size that
+// pulse (sizing_reading.hpp). The model tops up by itself below what its plan accepts; another
+// strategy where `tol_action topup` tops up below the reject band.
+bool DosingCycle::sizes_next_pulse(const RecentEstimates& recent, float standard_error_g, float final_value) const {
+  const bool model = result_.strategy == DosingStrategy::model;
+  const float left_short_g = model ? model_top_up_shortfall_g(plan_.plan, sizing_warn_low_g_) : sizing_reject_low_g_;
+  if (!((model ? sizing_warn_low_g_ : sizing_reject_low_g_) > 0.0f)) return false;
+  const float deficit_g = float(result_.target_g) - (final_value - start_weight_g_);
+  return reading_sizes_pulse(recent, standard_error_g, deficit_g, left_short_g);
+}
+
+void DosingCycle::certify_in_full() {
+  sizing_warn_low_g_ = 0.0f;
+  sizing_reject_low_g_ = 0.0f;
+  reading_sizes_only_ = false;
+  phase_ = Phase::settling;
 }
 
 // Whether the fit's residuals are within what the scale's noise at rest explains; else the window
@@ -427,12 +469,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
     phase_ = Phase::idle;
     if (topping_up_) return Outcome::certified;  // the strategies learn from their own close only
     if (delivered_nothing()) return Outcome::nothing_delivered;  // teaches nothing
-    if (result_.strategy == DosingStrategy::twostage) two_stage_.learn(float(result_.final_g));
-    if (result_.strategy == DosingStrategy::pac) pac_.learn(float(result_.final_g));
-    if (result_.strategy == DosingStrategy::flowpreact) flow_preact_.learn(float(result_.final_g));
-    if (result_.strategy == DosingStrategy::model || result_.strategy == DosingStrategy::learn) {
-      model_.learn(float(result_.final_g), close_sigma_g_);
-    }
+    if (!close_taught_) learn_from_close();
     return Outcome::certified;
   }
   if (float(jiffies_ - closed_jiffy_) * jiffy_s_ > settle_limit_s_) {

@@ -14,8 +14,14 @@ void Indicator::conclude_dose() {
 
 // A top-up pulse certified: what it delivered sizes the next one; a pulse the scale saw nothing of
 // ends the top-up with the result as it is, or in `no_flow` where the whole dose brought nothing.
+// A reading that only sizes a pulse must be followed by one: where the pulse may have moved nothing
+// (what it brought within the reading's standard error of nothing) or the reading is found frozen,
+// the reading is certified in full before the pulse is judged.
 void Indicator::conclude_top_up() {
   const float delivered_g = float(dosing_.result().final_g - concluding_.final_g);
+  const bool pulse_may_follow =
+      !dosing_.reading_frozen() && !dosing_.pulse_moved_nothing(delivered_g - SizingReading::kStandardErrorG);
+  if (dosing_.reading_sizes_only() && !pulse_may_follow) return dosing_.certify_in_full();
   if (!dosing_.learn_top_up(delivered_g)) {
     if (supervisor_.last_opening_reached_open() && dosing_.dose_delivered_nothing()) return raise(Fault::no_flow);
     follow_up_.stop_topping_up();
@@ -69,6 +75,18 @@ void Indicator::start_top_up() {
   const float accepted_short_g = concluding_.strategy == DosingStrategy::model ? model_accepted_short_g() : 0.0f;
   dosing_.start_top_up(float(concluding_.target_g - concluding_.final_g), follow_up_.pulse_s(),
                        follow_up_.pulses_left(), accepted_short_g);
+  offer_sizing_reading(follow_up_.pulses_left() > 0);
+}
+
+// Where another pulse may follow the coming close or pulse, its reading need only size that pulse
+// (sizing_reading.hpp); the bands below the target tell how short the fill may end without one.
+void Indicator::offer_sizing_reading(bool pulse_may_follow) {
+  const Parameters& p = settings_.parameters;
+  const ToleranceBands bands = tolerance_bands(float(dosing_.result().target_g), p);
+  const bool tol_topup = static_cast<ToleranceAction>(static_cast<int>(p.get(ParameterId::tol_action))) ==
+                         ToleranceAction::topup;
+  if (!pulse_may_follow) return dosing_.allow_sizing_reading(0.0f, 0.0f);
+  dosing_.allow_sizing_reading(bands.warn_low_g, tol_topup ? bands.reject_low_g : 0.0f);
 }
 
 void Indicator::judge_result() {
@@ -84,10 +102,12 @@ void Indicator::judge_result() {
     return start_top_up();
   }
   const auto action = static_cast<ToleranceAction>(static_cast<int>(p.get(ParameterId::tol_action)));
-  if (!outside_reject_band(verdict_) || action == ToleranceAction::accept) return report_result();
   if (action == ToleranceAction::topup && verdict_ == ToleranceVerdict::low && may_top_up) {
     return start_top_up();
   }
+  // No pulse follows a reading that was to size one: it is certified in full, then judged again.
+  if (dosing_.reading_sizes_only()) return dosing_.certify_in_full();
+  if (!outside_reject_band(verdict_) || action == ToleranceAction::accept) return report_result();
   if (action == ToleranceAction::hold) return report_hold();
   report_result();  // topup: over the target, topup_max reached, or a pulse that moved nothing
 }

@@ -16,7 +16,9 @@
 #include "dynweigh/firmware/model_cutoff.hpp"
 #include "dynweigh/firmware/pac_cutoff.hpp"
 #include "dynweigh/firmware/parameters.hpp"
+#include "dynweigh/firmware/pulse_verdict.hpp"
 #include "dynweigh/firmware/rest_noise.hpp"
+#include "dynweigh/firmware/sizing_reading.hpp"
 #include "dynweigh/firmware/stable_weight_detector.hpp"
 #include "dynweigh/firmware/top_up_pulse_law.hpp"
 #include "dynweigh/firmware/two_stage_cutoff.hpp"
@@ -73,6 +75,23 @@ class DosingCycle {
   // After the top-up's certified result: what the pulse delivered; false if the scale saw (about)
   // nothing of it (a frozen reading, an empty silo): no further pulse is sized on that.
   bool learn_top_up(float delivered_g);
+  // Whether the scale saw (about) nothing of the last pulse, `delivered_g` being what it saw.
+  bool pulse_moved_nothing(float delivered_g) const;
+  // While a top-up may follow the coming close or pulse, the tolerance's bands below the target:
+  // `warn_low_g` (TL1), from which the model's own top-up tells how short it accepts a fill, and
+  // `reject_low_g` (TL2) where `tol_action topup` tops up another strategy's fill (0: it does not).
+  // A dynamically certified reading short by clearly more than that then only sizes the next
+  // pulse, and is taken as soon as it is good enough for that (sizing_reading.hpp). Both 0: every
+  // reading is certified in full. start() and start_top_up() set both 0.
+  void allow_sizing_reading(float warn_low_g, float reject_low_g) {
+    sizing_warn_low_g_ = warn_low_g > 0.0f ? warn_low_g : 0.0f;
+    sizing_reject_low_g_ = reject_low_g > 0.0f ? reject_low_g : 0.0f;
+  }
+  // The last `certified` outcome was such a reading: it sizes a pulse and is never reported.
+  bool reading_sizes_only() const { return reading_sizes_only_; }
+  // The pulse that reading was to size will not come: the dose settles on, the fit's window kept,
+  // until the reading is certified in full (step() returns `certified` again).
+  void certify_in_full();
   // The whole dose, its close and its pulses, brought no more than its X(5) limit: after a pulse
   // whose feedback showed the valve open or at half and that the scale saw nothing of, a silo that
   // delivers nothing, found after a close the valve was too slow for.
@@ -140,6 +159,9 @@ class DosingCycle {
   bool decide_flow_baseline(float filtered_weight_g);
   void close_valve(float settle_delay_s);
   bool certify(float net_weight_g, float filtered_weight_g);
+  bool sizes_next_pulse(const RecentEstimates& recent, float standard_error_g, float final_value) const;
+  void learn_from_close();
+  PulseVerdict last_pulse_verdict(float delivered_g) const;
   bool settling_fit_describes_reading(float residual_rms_g);
   bool certify_dynamically() const;
   bool delivered_nothing() const;
@@ -192,6 +214,10 @@ class DosingCycle {
   PlanChoice plan_;
   float close_sigma_g_ = 0.0f;  // the plan's uncertainty for a measured close now, before its scale
   float measured_sigma_scale_ = 1.0f;  // what the material's measured closes showed of it
+  float sizing_warn_low_g_ = 0.0f;     // allow_sizing_reading()
+  float sizing_reject_low_g_ = 0.0f;
+  bool reading_sizes_only_ = false;
+  bool close_taught_ = false;  // the strategy learned from this dose's close (once, however certified)
   TopUpPulseLaw top_up_law_;
   TopUpPulseLaw::Pulse pulse_;
   float top_up_flow_g_s_ = 0.0f;  // full open, as measured at the close (0: none measured)

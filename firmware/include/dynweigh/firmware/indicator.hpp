@@ -130,6 +130,7 @@ class Indicator {
   void conclude_dose();
   void conclude_top_up();
   void start_top_up();
+  void offer_sizing_reading(bool pulse_may_follow);
   float model_accepted_short_g() const;
   void keep_top_up_learning();
   void keep_valve_dead_time();
