@@ -1,6 +1,6 @@
 #pragma once
-// A reading that only sizes a top-up pulse. Between the model's close (or a pulse) and the next
-// pulse, the certified reading is what the pulse is sized from, and the pulse's own scatter is
+// A reading that only sizes a top-up pulse. Between a close (or a pulse) and the next pulse, the
+// certified reading is what the pulse is sized from (or judged by), and the pulse's own scatter is
 // grams (the valve's timing jitter times the flow: a 10 to 20 g pulse lands 5 to 10 g either side
 // of its aim on the plant family). Certifying that reading to the division, as a result is
 // certified, costs the settling fit's estimates the time to agree within half a division. So
