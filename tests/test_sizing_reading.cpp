@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "dynweigh/firmware/dose_plan.hpp"
 #include "dynweigh/firmware/sizing_reading.hpp"
 #include "dynweigh/model/oiml_r61_limits.hpp"
 #include "support/console_session.hpp"
@@ -86,7 +85,7 @@ std::size_t result_jiffy(ConsoleSession& c, const std::string& command) {
 
 // How soon a dose's first pulse follows its close, against how soon the same close is certified in
 // full: the same plant and settings run twice, once with `topup_max 0` (no pulse may follow: the
-// close's reading is the result), once with `after_setup` (a pulse follows). Jiffies from the dose
+// close's reading is the result), once with `allow_pulses` (a pulse follows). Jiffies from the dose
 // command: the close (the valve shut) in either run, the first pulse's opening, the RESULT.
 struct FirstPulseTiming {
   std::size_t close_alone = 0, close = 0, certified_in_full = 0, first_pulse = 0;
@@ -154,7 +153,7 @@ TEST(SizingReading, APulseThatMovedNothingEndsTheDoseOnAReadingCertifiedInFull) 
   const std::string out = c.run({"dose 2000"});
   const std::string result = out.substr(0, out.find('\n'));
   ASSERT_EQ(result.rfind("RESULT ", 0), 0u) << out;
-  EXPECT_EQ(field(result, "topups"), "2") << result;  // the close, a pulse that ran the silo dry, one that moved nothing
+  EXPECT_EQ(field(result, "topups"), "2") << result;  // one pulse ran the silo dry, the next moved nothing
   const double fill_g = (c.session().plant().truth().static_kg - before_kg) * 1000.0;
   EXPECT_NEAR(std::stod(field(result, "final")), fill_g, 1.5) << result;
   c.idle(50);
