@@ -91,9 +91,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   fine_point_passed_ = false;
   plan_ = PlanChoice{};
   close_sigma_g_ = 0.0f;
-  sizing_warn_low_g_ = 0.0f;
-  sizing_reject_low_g_ = 0.0f;
-  reading_sizes_only_ = false;
+  forget_sizing_reading();
   close_taught_ = false;
   frozen_reading_ = false;
   still_samples_ = 0;
@@ -279,9 +277,7 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_
   stable_.reset();
   settling_fit_.reset();
   estimates_ = 0;
-  sizing_warn_low_g_ = 0.0f;
-  sizing_reject_low_g_ = 0.0f;
-  reading_sizes_only_ = false;
+  forget_sizing_reading();
   valve_ = pulse_.command;
   phase_ = Phase::pulsing;
 }
@@ -391,10 +387,13 @@ bool DosingCycle::sizes_next_pulse(const RecentEstimates& recent, float standard
 }
 
 void DosingCycle::certify_in_full() {
-  sizing_warn_low_g_ = 0.0f;
-  sizing_reject_low_g_ = 0.0f;
-  reading_sizes_only_ = false;
+  forget_sizing_reading();
   phase_ = Phase::settling;
+}
+
+void DosingCycle::forget_sizing_reading() {
+  allow_sizing_reading(0.0f, 0.0f);
+  reading_sizes_only_ = false;
 }
 
 // Whether the fit's residuals are within what the scale's noise at rest explains; else the window

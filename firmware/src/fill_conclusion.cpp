@@ -19,9 +19,9 @@ void Indicator::conclude_dose() {
 // the reading is certified in full before the pulse is judged.
 void Indicator::conclude_top_up() {
   const float delivered_g = float(dosing_.result().final_g - concluding_.final_g);
-  const bool pulse_may_follow =
+  const bool reading_may_size =
       !dosing_.reading_frozen() && !dosing_.pulse_moved_nothing(delivered_g - SizingReading::kStandardErrorG);
-  if (dosing_.reading_sizes_only() && !pulse_may_follow) return dosing_.certify_in_full();
+  if (dosing_.reading_sizes_only() && !reading_may_size) return dosing_.certify_in_full();
   if (!dosing_.learn_top_up(delivered_g)) {
     if (supervisor_.last_opening_reached_open() && dosing_.dose_delivered_nothing()) return raise(Fault::no_flow);
     follow_up_.stop_topping_up();

@@ -161,6 +161,7 @@ class DosingCycle {
   bool certify(float net_weight_g, float filtered_weight_g);
   bool sizes_next_pulse(const RecentEstimates& recent, float standard_error_g, float final_value) const;
   void learn_from_close();
+  void forget_sizing_reading();  // every reading certified in full until allow_sizing_reading()
   PulseVerdict last_pulse_verdict(float delivered_g) const;
   bool settling_fit_describes_reading(float residual_rms_g);
   bool certify_dynamically() const;
