@@ -163,7 +163,7 @@ TEST(SizingReading, APulseThatMovedNothingEndsTheDoseOnAReadingCertifiedInFull) 
 // The jiffies of a 2 kg model dose on the default scene, from the rig's start: the close and the
 // first pulse's opening.
 struct DoseJiffies {
-  std::uint32_t dose = 0, close = 0, first_pulse = 0;
+  std::uint32_t dose = 0, close_command = 0, close = 0, first_pulse = 0;
 };
 
 DoseJiffies time_a_two_kilogram_dose() {
@@ -174,7 +174,8 @@ DoseJiffies time_a_two_kilogram_dose() {
   dry.run_command("dose 2000", 1);
   bool opened = false;
   for (int i = 0; i < 2000 && j.first_pulse == 0; ++i) {
-    dry.step();
+    const bool commanded_open = dry.step().valve != firmware::ValveCommand::closed;
+    if (!commanded_open && opened && j.close_command == 0) j.close_command = dry.jiffy() - 1;
     const bool open = dry.plant().truth().stroke > 0.0;
     if (open && !opened && j.close != 0) j.first_pulse = dry.jiffy();
     if (!open && opened && j.close == 0) j.close = dry.jiffy();
@@ -183,28 +184,67 @@ DoseJiffies time_a_two_kilogram_dose() {
   return j;
 }
 
-// The load cell's reading freezes at the model's close, far short of the target. The pulse sized on
-// it moves nothing the scale sees; that is judged on the reading certified in full, and the dose ends
-// after that one pulse with the valve shut, not overdosed.
-TEST(SizingReading, AReadingFrozenAtTheCloseEndsTheDoseAfterOnePulse) {
-  const DoseJiffies j = time_a_two_kilogram_dose();
-  ASSERT_GT(j.first_pulse, j.close) << j.close;
+// A 2 kg model dose on the default scene whose load cell freezes at `freeze_jiffy` (counted from the
+// rig's start, as time_a_two_kilogram_dose() counts): its answer, the valve openings after the first
+// close, the plant's fill and the valve's stroke 50 jiffies after the answer.
+struct FrozenDose {
+  std::string answer;
+  int pulses = 0;
+  double fill_g = 0.0;
+  double stroke_after = 0.0;
+  bool fault_latched = false;
+};
+
+FrozenDose dose_frozen_at(std::uint32_t dose_jiffy, std::uint32_t freeze_jiffy) {
   hal::host::SensorFaultPlan freeze;
   freeze.fault = hal::host::SensorFault::freeze;
-  freeze.at_jiffy = j.close;
+  freeze.at_jiffy = freeze_jiffy;
   FaultRig rig(freeze, hal::host::ValveFault::none, 0);
   rig.idle(100);
-  ASSERT_EQ(rig.jiffy(), j.dose);
+  EXPECT_EQ(rig.jiffy(), dose_jiffy);
   const double before_kg = rig.plant().truth().static_kg;
-  const std::string answer = rig.run_command("dose 2000", 6000);
-  const double fill_g = (rig.plant().truth().static_kg - before_kg) * 1000.0;
-  EXPECT_LE(fill_g, 2000.0 + model::oiml_r61_x1_limits(2000.0).in_service_g) << answer;
-  const std::string result = answer.substr(0, answer.find('\n'));
-  if (result.rfind("RESULT ", 0) == 0) {
-    EXPECT_EQ(field(result, "topups"), "1") << answer;
+  FrozenDose d;
+  rig.run_command("dose 2000", 1);
+  bool opened = false, closed_once = false;
+  for (int i = 0; i < 6000 && rig.output().find('\n') == std::string::npos; ++i) {
+    rig.step();
+    const bool open = rig.plant().truth().stroke > 0.0;
+    if (open && !opened && closed_once) ++d.pulses;
+    if (!open && opened) closed_once = true;
+    opened = open;
   }
+  d.answer = rig.output();
+  d.fill_g = (rig.plant().truth().static_kg - before_kg) * 1000.0;
   rig.idle(50);
-  EXPECT_EQ(rig.plant().truth().stroke, 0.0) << answer;
+  d.stroke_after = rig.plant().truth().stroke;
+  d.fault_latched = rig.run_command("dose 2000") == "ERR 4 fault active\n";
+  return d;
+}
+
+// The load cell freezes in the jiffy the valve is told to close: the grains in flight land and the
+// reading does not move once. No pulse is sized on it and no result reported: the dose ends in the fault.
+TEST(SizingReading, AReadingThatDoesNotMoveWhileTheGrainsLandIsAFault) {
+  const DoseJiffies j = time_a_two_kilogram_dose();
+  ASSERT_GT(j.close, j.dose);
+  const FrozenDose d = dose_frozen_at(j.dose, j.close_command);
+  EXPECT_EQ(d.answer, "ERR 4 fault sensor_frozen\n");
+  EXPECT_EQ(d.pulses, 0) << d.answer;
+  EXPECT_EQ(d.stroke_after, 0.0) << d.answer;
+  EXPECT_TRUE(d.fault_latched);
+}
+
+// The load cell freezes at the model's close, far short of the target: it moved once after the
+// close, so one pulse is sized on the frozen reading. That pulse's grains land unseen: the dose ends
+// in the fault, not in a result that is the reading before the pulse, and is not overdosed.
+TEST(SizingReading, AReadingFrozenAtTheCloseEndsTheDoseAfterOnePulseInAFault) {
+  const DoseJiffies j = time_a_two_kilogram_dose();
+  ASSERT_GT(j.first_pulse, j.close) << j.close;
+  const FrozenDose d = dose_frozen_at(j.dose, j.close);
+  EXPECT_EQ(d.answer, "ERR 4 fault sensor_frozen\n");
+  EXPECT_EQ(d.pulses, 1) << d.answer;
+  EXPECT_LE(d.fill_g, 2000.0 + model::oiml_r61_x1_limits(2000.0).in_service_g) << d.answer;
+  EXPECT_EQ(d.stroke_after, 0.0) << d.answer;
+  EXPECT_TRUE(d.fault_latched);
 }
 
 }  // namespace

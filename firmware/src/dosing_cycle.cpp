@@ -94,6 +94,7 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   forget_sizing_reading();
   close_taught_ = false;
   frozen_reading_ = false;
+  frozen_while_landing_ = false;
   still_samples_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
@@ -231,6 +232,9 @@ void DosingCycle::close_valve(float settle_delay_s) {
     const bool one_pulse = !model_.fine_feeding() && valve_ == ValveCommand::open;
     dose_open_s_ = one_pulse ? float(jiffies_ - open_jiffy_) * jiffy_s_ + float(valve_delay_100us_) * 1e-4f : 0.0f;
   }
+  // A valve still on its way open, or a pulse too short to part the gate, may have let nothing
+  // through: a reading that stands still after it is no proof of a frozen converter.
+  grains_in_flight_ = phase_ == Phase::dosing ? valve_could_deliver_ : pulse_.seconds >= pulse_travel_s();
   valve_ = ValveCommand::closed;
   phase_ = Phase::settling;
   if (!topping_up_) result_.cutoff_jiffy = jiffies_;
@@ -283,15 +287,19 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_
 }
 
 // Between a close (or a pulse's end) and the computed landing of its last grain, the grains in
-// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen;
-// so is one that stands still for kFrozenSamples samples once they have landed (a live load cell's
-// noise and the platform's ringing move it every few samples).
+// flight land: the reading moves, noise or none. One that has not moved once in that time is frozen,
+// and where grains were surely in flight the dose ends in the fault (step()); one that stands still
+// for kFrozenSamples samples once they have landed is frozen too (a live load cell's noise and the
+// platform's ringing move it every few samples), or a scale without noise: no pulse is sized on it.
 void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
   if (!fresh) return;
   const bool still = net_weight_g == last_net_g_;
   if (phase_ == Phase::settling) {
     if (!still) moved_since_close_ = true;
-    if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) frozen_reading_ = true;
+    if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) {
+      frozen_reading_ = true;
+      frozen_while_landing_ = grains_in_flight_;
+    }
     still_samples_ = still && jiffies_ > settle_from_jiffy_ ? still_samples_ + 1 : 0;
     if (still_samples_ >= kFrozenSamples) frozen_reading_ = true;
   } else {
@@ -319,10 +327,13 @@ void DosingCycle::learn_from_close() {
   }
 }
 
-PulseVerdict DosingCycle::last_pulse_verdict(float delivered_g) const {
+float DosingCycle::pulse_travel_s() const {
   const float position = pulse_.command == ValveCommand::half ? 0.5f : 1.0f;
-  const float travel_s = position * model_.stroke_in_use_s_now();
-  return judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, travel_s, sizes_top_ups());
+  return position * model_.stroke_in_use_s_now();
+}
+
+PulseVerdict DosingCycle::last_pulse_verdict(float delivered_g) const {
+  return judge_pulse(pulse_.expected_g, delivered_g, pulse_.seconds, pulse_travel_s(), sizes_top_ups());
 }
 
 bool DosingCycle::pulse_moved_nothing(float delivered_g) const {
@@ -414,6 +425,10 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   ++jiffies_;
   valve_delay_100us_ = 0;
   watch_for_frozen_reading(net_weight_g, fresh);
+  if (frozen_while_landing_) {
+    abort();
+    return Outcome::reading_frozen;
+  }
   const float elapsed_s = float(jiffies_) * jiffy_s_;
   if (phase_ == Phase::dosing && awaiting_rest_) {
     if (!standstill_.stable()) {

@@ -250,6 +250,8 @@ void Indicator::advance_dose() {
       return raise(Fault::never_stable);
     case DosingCycle::Outcome::nothing_delivered:
       return raise(Fault::no_flow);
+    case DosingCycle::Outcome::reading_frozen:
+      return raise(Fault::sensor_frozen);
     case DosingCycle::Outcome::certified:
       break;
   }

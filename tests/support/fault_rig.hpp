@@ -65,6 +65,7 @@ class FaultRig {
   sim::Plant& plant() { return plant_; }
   firmware::Indicator& indicator() { return indicator_; }
   std::uint32_t jiffy() const { return jiffy_; }  // the fault plans count from the rig's start
+  const std::string& output() const { return console_.output; }  // since the last command was sent
   bool detected() const { return detected_; }
   std::uint32_t detection_jiffy() const { return detection_jiffy_; }
   firmware::ValveCommand valve_at_detection() const { return valve_at_detection_; }

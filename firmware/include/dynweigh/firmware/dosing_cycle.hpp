@@ -47,7 +47,10 @@ class DosingCycle {
   // close meant to end far short (the model's, at the reach of what earlier fills taught it, on a
   // slow valve whose first tenths of a second let little through) delivers a good share of what it
   // predicted: a top-up finishes it.
-  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered };
+  // `reading_frozen`: the reading did not move once while the grains in flight at the close, or at
+  // the end of a pulse that reached its position, landed (watch_for_frozen_reading). Landing grains
+  // move any live load cell's reading; a hung converter's result would be what it last read.
+  enum class Outcome : std::uint8_t { running, certified, timed_out, never_stable, nothing_delivered, reading_frozen };
   static constexpr float kNothingDeliveredClass = 5.0f;
   static constexpr float kNothingDeliveredShare = 0.2f;
 
@@ -163,6 +166,7 @@ class DosingCycle {
   void learn_from_close();
   void forget_sizing_reading();  // every reading certified in full until allow_sizing_reading()
   PulseVerdict last_pulse_verdict(float delivered_g) const;
+  float pulse_travel_s() const;  // the valve's travel to the position the pulse was sent to
   bool settling_fit_describes_reading(float residual_rms_g);
   bool certify_dynamically() const;
   bool delivered_nothing() const;
@@ -227,6 +231,8 @@ class DosingCycle {
   std::uint32_t closed_jiffy_ = 0;
   float last_net_g_ = 0.0f;
   bool frozen_reading_ = false;
+  bool frozen_while_landing_ = false;  // with grains in flight: the dose ends in sensor_frozen
+  bool grains_in_flight_ = false;      // the close, or a pulse that reached its position
   bool moved_since_close_ = false;
   std::uint32_t still_samples_ = 0;
   std::uint32_t open_jiffy_ = 0;
