@@ -184,6 +184,26 @@ DoseJiffies time_a_two_kilogram_dose() {
   return j;
 }
 
+// The same dry silo on a load cell with no noise at all: the pulse that moved nothing lands on a
+// platform still ringing from the pulse before, so its reading moves, and the dose ends in its RESULT
+// as above, never in sensor_frozen (a hung converter is only told from a reading that does not move
+// once while grains land).
+TEST(SizingReading, ASiloRunDryOnANoiselessLoadCellIsNoFrozenReading) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    sim::Scene scene = scene_with_silo(1.5);
+    scene.load_cell.noise_counts_rms = 0.0;
+    ConsoleSession c(scene, seed);
+    c.idle(20);
+    const double before_kg = c.session().plant().truth().static_kg;
+    const std::string out = c.run({"dose 2000"});
+    const std::string result = out.substr(0, out.find('\n'));
+    ASSERT_EQ(result.rfind("RESULT ", 0), 0u) << "seed " << seed << "\n" << out;
+    EXPECT_EQ(field(result, "topups"), "2") << result;
+    const double fill_g = (c.session().plant().truth().static_kg - before_kg) * 1000.0;
+    EXPECT_NEAR(std::stod(field(result, "final")), fill_g, 1.5) << result;
+  }
+}
+
 // A 2 kg model dose on the default scene whose load cell freezes at `freeze_jiffy` (counted from the
 // rig's start, as time_a_two_kilogram_dose() counts): its answer, the valve openings after the first
 // close, the plant's fill and the valve's stroke 50 jiffies after the answer.
