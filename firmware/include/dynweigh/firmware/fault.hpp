@@ -22,7 +22,7 @@ enum class Fault : std::uint8_t {
   valve_stuck_closed,  // commanded open or half, the feedback stays closed
   no_flow,             // a dose's valve open, the weight does not rise
   flow_after_close,    // the weight keeps rising long after the close
-  sensor_frozen,       // the load cell repeats one value while the flow runs
+  sensor_frozen,       // the load cell repeats one value while the flow runs, or while grains land
   // The plant link's (io.hpp LinkStatus, reported by a CAN board):
   can_silence,  // nothing heard on the bus for 100 ms: the link, not just the load cell, is dead
   bus_off,      // the transport went bus-off (or its link down): no command reaches the valve
