@@ -160,8 +160,8 @@ TEST(SizingReading, APulseThatMovedNothingEndsTheDoseOnAReadingCertifiedInFull) 
   EXPECT_EQ(c.session().plant().truth().stroke, 0.0);
 }
 
-// The jiffies of a 2 kg model dose on the default scene, from the rig's start: the close and the
-// first pulse's opening.
+// The jiffies of a 2 kg model dose on the default scene, from the rig's start: the close command,
+// the valve's stroke back at zero after it, and the first pulse's opening.
 struct DoseJiffies {
   std::uint32_t dose = 0, close_command = 0, close = 0, first_pulse = 0;
 };
@@ -184,10 +184,10 @@ DoseJiffies time_a_two_kilogram_dose() {
   return j;
 }
 
-// The same dry silo on a load cell with no noise at all: the pulse that moved nothing lands on a
-// platform still ringing from the pulse before, so its reading moves, and the dose ends in its RESULT
-// as above, never in sensor_frozen (a hung converter is only told from a reading that does not move
-// once while grains land).
+// The same dry silo on a load cell with no noise at all: after the pulse that moved nothing the
+// reading still moves (the platform is still settling from the pulse before), and the dose ends in
+// its RESULT as above, never in sensor_frozen (a hung converter is only told from a reading that
+// does not move once while grains land).
 TEST(SizingReading, ASiloRunDryOnANoiselessLoadCellIsNoFrozenReading) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     sim::Scene scene = scene_with_silo(1.5);
