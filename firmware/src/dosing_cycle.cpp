@@ -94,7 +94,6 @@ void DosingCycle::start(std::int32_t target_g, DosingStrategy strategy, const Le
   forget_sizing_reading();
   close_taught_ = false;
   frozen_reading_ = false;
-  frozen_while_landing_ = false;
   still_samples_ = 0;
   phase_ = Phase::dosing;
   valve_ = ValveCommand::closed;
@@ -291,14 +290,15 @@ void DosingCycle::start_top_up(float deficit_g, float fixed_pulse_s, std::uint8_
 // and where grains were surely in flight the dose ends in the fault (step()); one that stands still
 // for kFrozenSamples samples once they have landed is frozen too (a live load cell's noise and the
 // platform's ringing move it every few samples), or a scale without noise: no pulse is sized on it.
-void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
-  if (!fresh) return;
+bool DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
+  if (!fresh) return false;
   const bool still = net_weight_g == last_net_g_;
+  bool froze_while_landing = false;
   if (phase_ == Phase::settling) {
     if (!still) moved_since_close_ = true;
     if (jiffies_ == settle_from_jiffy_ && !moved_since_close_) {
       frozen_reading_ = true;
-      frozen_while_landing_ = grains_in_flight_;
+      froze_while_landing = grains_in_flight_;
     }
     still_samples_ = still && jiffies_ > settle_from_jiffy_ ? still_samples_ + 1 : 0;
     if (still_samples_ >= kFrozenSamples) frozen_reading_ = true;
@@ -306,6 +306,7 @@ void DosingCycle::watch_for_frozen_reading(float net_weight_g, bool fresh) {
     still_samples_ = 0;
   }
   last_net_g_ = net_weight_g;
+  return froze_while_landing;
 }
 
 PlanChoice DosingCycle::plan() const {
@@ -424,8 +425,7 @@ DosingCycle::Outcome DosingCycle::step(float net_weight_g, float filtered_weight
   if (phase_ == Phase::idle) return Outcome::running;
   ++jiffies_;
   valve_delay_100us_ = 0;
-  watch_for_frozen_reading(net_weight_g, fresh);
-  if (frozen_while_landing_) {
+  if (watch_for_frozen_reading(net_weight_g, fresh)) {
     abort();
     return Outcome::reading_frozen;
   }

@@ -174,7 +174,8 @@ class DosingCycle {
   void keep_top_up_flow();
   float plan_step(float growth_g_per_jiffy);
   float fine_lead_s() const;
-  void watch_for_frozen_reading(float net_weight_g, bool fresh);
+  // True in the jiffy it finds that the reading did not move while grains in flight landed.
+  bool watch_for_frozen_reading(float net_weight_g, bool fresh);
   Outcome step_pulse();
 
   ModelCutoff model_;
@@ -231,7 +232,6 @@ class DosingCycle {
   std::uint32_t closed_jiffy_ = 0;
   float last_net_g_ = 0.0f;
   bool frozen_reading_ = false;
-  bool frozen_while_landing_ = false;  // with grains in flight: the dose ends in sensor_frozen
   bool grains_in_flight_ = false;      // the close, or a pulse that reached its position
   bool moved_since_close_ = false;
   std::uint32_t still_samples_ = 0;
